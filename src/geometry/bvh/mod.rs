@@ -1,0 +1,236 @@
+//! A bounding volume hierarchy over triangles: its layout, its construction, and its checks.
+//!
+//! The tree is stored flat, depth first: a node's first child is the next node in the array, its
+//! second child is found by index. Leaves point into [`Bvh::triangles`], which construction
+//! reorders so that each leaf's triangles are contiguous. Checkpoint 4 has two parts: the split
+//! ([`split`], where the student writes the object-median split) and the traversal
+//! ([`traverse`]). This file holds the plumbing around them: the recursion, leaves, and
+//! [`Bvh::validate`], which the tests use to check any tree, however it was split.
+
+mod split;
+mod traverse;
+
+pub use split::SplitMethod;
+pub use traverse::{BvhHit, TraversalStats};
+
+use crate::geometry::{Aabb, Triangle};
+use crate::math::Vec3;
+
+/// Most triangles a leaf holds.
+pub const MAX_LEAF_TRIANGLES: usize = 4;
+
+/// Deepest tree traversal supports (its stack is fixed-size). An object-median tree over n
+/// triangles is about log2(n / 4) + 1 deep: 64 levels would hold far more triangles than memory.
+pub const MAX_DEPTH: usize = 64;
+
+/// One node of the flattened tree. Read it through [`Node::view`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Node {
+    bounds: Aabb,
+    kind: NodeView,
+}
+
+/// What a node is: a leaf with its triangles, or an interior node with two children.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NodeView {
+    /// Triangles `first .. first + count` of [`Bvh::triangles`].
+    Leaf {
+        /// Index of the leaf's first triangle.
+        first: u32,
+        /// Number of triangles, 1 to [`MAX_LEAF_TRIANGLES`].
+        count: u32,
+    },
+    /// The first child is the next node in the array; the second is at `second_child`.
+    Interior {
+        /// The axis (0, 1, 2) along which the children were split.
+        axis: u8,
+        /// Index of the second child.
+        second_child: u32,
+    },
+}
+
+impl Node {
+    /// A leaf over `count` triangles starting at `first`.
+    pub fn leaf(bounds: Aabb, first: u32, count: u32) -> Self {
+        Self {
+            bounds,
+            kind: NodeView::Leaf { first, count },
+        }
+    }
+
+    /// An interior node split along `axis` whose second child is at index `second_child`.
+    pub fn interior(bounds: Aabb, axis: u8, second_child: u32) -> Self {
+        Self {
+            bounds,
+            kind: NodeView::Interior { axis, second_child },
+        }
+    }
+
+    /// The box around everything below this node.
+    pub fn bounds(&self) -> &Aabb {
+        &self.bounds
+    }
+
+    /// Leaf or interior, with their indices.
+    pub fn view(&self) -> NodeView {
+        self.kind
+    }
+}
+
+/// A triangle being sorted into the tree: its index in the input, its box and its centroid.
+#[derive(Clone, Copy, Debug)]
+pub struct PrimRef {
+    /// Index of the triangle in the array given to [`Bvh::build`].
+    pub index: u32,
+    /// The triangle's bounds.
+    pub bounds: Aabb,
+    /// The triangle's centroid.
+    pub centroid: Vec3,
+}
+
+/// A BVH over a set of triangles.
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    triangles: Vec<Triangle>,
+    /// `prim_ids[i]` is the input index of `triangles[i]`.
+    prim_ids: Vec<u32>,
+}
+
+impl Bvh {
+    /// Builds a tree over `triangles`, splitting nodes with `method`.
+    pub fn build(triangles: &[Triangle], method: SplitMethod) -> Self {
+        let mut prims: Vec<PrimRef> = triangles
+            .iter()
+            .enumerate()
+            .map(|(i, t)| PrimRef {
+                index: i as u32,
+                bounds: t.bounds(),
+                centroid: t.centroid(),
+            })
+            .collect();
+        let mut nodes = Vec::with_capacity(2 * prims.len());
+        if !prims.is_empty() {
+            build_node(&mut prims, 0, method, &mut nodes);
+        }
+        Self {
+            nodes,
+            triangles: prims.iter().map(|p| triangles[p.index as usize]).collect(),
+            prim_ids: prims.iter().map(|p| p.index).collect(),
+        }
+    }
+
+    /// The flattened nodes, root first (empty for a tree over no triangles).
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The triangles in leaf order.
+    pub fn triangles(&self) -> &[Triangle] {
+        &self.triangles
+    }
+
+    /// The input index of the triangle at leaf-order position `i`.
+    pub fn prim_id(&self, i: usize) -> u32 {
+        self.prim_ids[i]
+    }
+
+    /// The length of the longest root-to-leaf path, counted in nodes (0 for an empty tree).
+    pub fn depth(&self) -> usize {
+        fn depth_below(nodes: &[Node], i: usize) -> usize {
+            match nodes[i].view() {
+                NodeView::Leaf { .. } => 1,
+                NodeView::Interior { second_child, .. } => {
+                    1 + depth_below(nodes, i + 1).max(depth_below(nodes, second_child as usize))
+                }
+            }
+        }
+        if self.nodes.is_empty() {
+            0
+        } else {
+            depth_below(&self.nodes, 0)
+        }
+    }
+
+    /// Checks every structural invariant; the error names the first node that breaks one.
+    ///
+    /// Invariants: depth-first layout (children after their parent, the first child next); leaves
+    /// hold 1 to [`MAX_LEAF_TRIANGLES`] triangles; every triangle is in exactly one leaf; every
+    /// node's box contains its children's boxes and its triangles; depth at most [`MAX_DEPTH`].
+    pub fn validate(&self) -> Result<(), String> {
+        let mut seen = vec![false; self.triangles.len()];
+        if !self.nodes.is_empty() {
+            self.validate_node(0, 1, &mut seen)?;
+        }
+        if let Some(i) = seen.iter().position(|s| !s) {
+            return Err(format!("triangle {} is in no leaf", self.prim_ids[i]));
+        }
+        let mut ids = self.prim_ids.clone();
+        ids.sort_unstable();
+        if ids.iter().enumerate().any(|(i, &id)| id != i as u32) {
+            return Err("the leaf order is not a permutation of the input triangles".into());
+        }
+        Ok(())
+    }
+
+    fn validate_node(&self, i: usize, depth: usize, seen: &mut [bool]) -> Result<(), String> {
+        if depth > MAX_DEPTH {
+            return Err(format!("node {i} is deeper than {MAX_DEPTH}"));
+        }
+        let node = &self.nodes[i];
+        match node.view() {
+            NodeView::Leaf { first, count } => {
+                let range = first as usize..(first + count) as usize;
+                if count == 0 || count as usize > MAX_LEAF_TRIANGLES || range.end > seen.len() {
+                    return Err(format!("leaf {i} has a bad range {range:?}"));
+                }
+                for t in range {
+                    if std::mem::replace(&mut seen[t], true) {
+                        return Err(format!("triangle {} is in two leaves", self.prim_ids[t]));
+                    }
+                    if !node.bounds.contains(&self.triangles[t].bounds()) {
+                        return Err(format!("leaf {i} does not contain triangle {}", self.prim_ids[t]));
+                    }
+                }
+            }
+            NodeView::Interior { second_child, .. } => {
+                let second = second_child as usize;
+                if second <= i + 1 || second >= self.nodes.len() {
+                    return Err(format!("node {i} has second child {second}: not depth first"));
+                }
+                for child in [i + 1, second] {
+                    if !node.bounds.contains(&self.nodes[child].bounds) {
+                        return Err(format!("node {i} does not contain its child {child}"));
+                    }
+                    self.validate_node(child, depth + 1, seen)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Appends the subtree over `prims` (which start at position `first` of the leaf order) to
+/// `nodes` in depth-first order, and returns the index of its root.
+fn build_node(prims: &mut [PrimRef], first: usize, method: SplitMethod, nodes: &mut Vec<Node>) -> u32 {
+    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+    let index = nodes.len();
+    if prims.len() <= MAX_LEAF_TRIANGLES {
+        nodes.push(Node::leaf(bounds, first as u32, prims.len() as u32));
+        return index as u32;
+    }
+    let split = method.split(prims);
+    debug_assert!(
+        0 < split.mid && split.mid < prims.len(),
+        "a split must leave triangles on both sides, got {} of {}",
+        split.mid,
+        prims.len()
+    );
+    // A placeholder, completed once the second child's index is known.
+    nodes.push(Node::leaf(bounds, 0, 0));
+    let (left, right) = prims.split_at_mut(split.mid);
+    build_node(left, first, method, nodes);
+    let second_child = build_node(right, first + split.mid, method, nodes);
+    nodes[index] = Node::interior(bounds, split.axis as u8, second_child);
+    index as u32
+}

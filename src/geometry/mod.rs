@@ -1,0 +1,14 @@
+//! Geometry: triangles (checkpoint 2), boxes (checkpoint 3), the BVH (checkpoint 4), and meshes.
+//!
+//! Nothing here knows about materials or light: a query answers *where* a ray meets the scene,
+//! never what it looks like there.
+
+mod aabb;
+pub mod bvh;
+mod mesh;
+mod triangle;
+
+pub use aabb::Aabb;
+pub use bvh::{Bvh, BvhHit, SplitMethod, TraversalStats};
+pub use mesh::{transform_matrix, TriangleMesh};
+pub use triangle::{intersect_triangle, Triangle, TriangleHit};

@@ -1,0 +1,258 @@
+//! Checkpoint 2: ray-triangle intersection (Möller-Trumbore).
+//!
+//! **Task.** Write [`intersect_triangle`]: given a ray and a triangle's three vertices, return the
+//! ray parameter `t` and the barycentric coordinates of the hit, or `None` for a miss.
+//!
+//! **Maths.** A point of the triangle is `p0 + b1·e1 + b2·e2` with `e1 = p1 − p0`, `e2 = p2 − p0`,
+//! `b1 ≥ 0`, `b2 ≥ 0`, `b1 + b2 ≤ 1` (and `b0 = 1 − b1 − b2`). Setting it equal to
+//! `o + t·d` gives a 3×3 linear system `[−d  e1  e2] (t, b1, b2)ᵀ = o − p0`. Cramer's rule with
+//! the scalar triple product `a · (b × c)` solves it:
+//!
+//! ```text
+//!   P = d × e2        det = e1 · P          (det = 0: the ray is parallel to the plane)
+//!   T = o − p0        b1  = (T · P) / det
+//!   Q = T × e1        b2  = (d · Q) / det    t = (e2 · Q) / det
+//! ```
+//!
+//! **Conventions** ([`crate::math`]): the hit must have `t` in the ray's open range
+//! `(t_min, t_max)`; triangles are two-sided, so `det` may have either sign; edges are inside
+//! (`b = 0` is a hit), so a ray through an edge shared by two triangles hits at least one.
+//!
+//! **Pitfalls.**
+//! - Rejecting `det < 0` culls back faces: walls seen from inside and rays leaving glass vanish.
+//! - "Parallel" must be judged relative to the triangle's size: `|det| = |d| |e1 × e2| |cos θ|`,
+//!   so a bare `|det| < 1e-8` rejects small triangles seen head-on and accepts huge ones seen
+//!   edge-on. Compare `|det|` with `|e1 × e2|` instead; a degenerate triangle (`e1 × e2 = 0`)
+//!   then misses too.
+//! - Test `b1` before computing `Q`, and `b1 + b2 ≤ 1`, not `b2 ≤ 1`.
+//! - Forgetting `t_max` makes the closest-hit search in the BVH (checkpoint 4) return far hits.
+//!
+//! **Check:** `cargo test checkpoint2`. Handout: `checkpoints/02-triangle.md`.
+
+use crate::geometry::Aabb;
+use crate::math::{Ray, Vec3};
+
+/// A triangle by its three vertices; winding `p0 → p1 → p2` is counter-clockwise seen from the
+/// side its normal points to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    /// First vertex.
+    pub p0: Vec3,
+    /// Second vertex.
+    pub p1: Vec3,
+    /// Third vertex.
+    pub p2: Vec3,
+}
+
+impl Triangle {
+    /// The triangle with these vertices.
+    pub fn new(p0: Vec3, p1: Vec3, p2: Vec3) -> Self {
+        Self { p0, p1, p2 }
+    }
+
+    /// The smallest box containing the three vertices.
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_point(self.p0).grow(self.p1).grow(self.p2)
+    }
+
+    /// The mean of the three vertices.
+    pub fn centroid(&self) -> Vec3 {
+        (self.p0 + self.p1 + self.p2) / 3.0
+    }
+
+    /// The unit geometric normal `normalize((p1 − p0) × (p2 − p0))`.
+    pub fn normal(&self) -> Vec3 {
+        (self.p1 - self.p0).cross(self.p2 - self.p0).normalize()
+    }
+
+    /// The point with barycentric coordinates `(1 − b1 − b2, b1, b2)`.
+    pub fn point(&self, b1: f32, b2: f32) -> Vec3 {
+        (1.0 - b1 - b2) * self.p0 + b1 * self.p1 + b2 * self.p2
+    }
+
+    /// [`intersect_triangle`] on this triangle.
+    pub fn intersect(&self, ray: &Ray) -> Option<TriangleHit> {
+        intersect_triangle(ray, self.p0, self.p1, self.p2)
+    }
+}
+
+/// Where a ray meets a triangle: the point is `ray.at(t)`, and also `(1 − b1 − b2)·p0 + b1·p1 + b2·p2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleHit {
+    /// Ray parameter of the hit, in the ray's open range `(t_min, t_max)`.
+    pub t: f32,
+    /// Barycentric weight of `p1`.
+    pub b1: f32,
+    /// Barycentric weight of `p2`.
+    pub b2: f32,
+}
+
+/// `|det|` below this fraction of `|e1 × e2|` counts as parallel: the ray meets the plane at less
+/// than about 6e-6 degrees, where the hit point's error exceeds the triangle itself.
+const PARALLEL_COSINE: f32 = 1e-7;
+
+/// Intersects `ray` with the triangle `(p0, p1, p2)` by Möller-Trumbore.
+///
+/// Returns the hit if the ray meets the triangle (edges included, either side) at a `t` strictly
+/// inside `(ray.t_min, ray.t_max)`; `None` for a miss, a parallel ray or a degenerate triangle.
+pub fn intersect_triangle(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
+    // BEGIN SOLUTION checkpoint2
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let p = ray.dir.cross(e2);
+    let det = e1.dot(p);
+    // |det| = |e1 × e2| |cos θ| for a unit direction: parallel (or degenerate, when the cross
+    // product vanishes) is judged relative to the triangle's own size. `<=` makes 0 ≤ 0 a miss.
+    if det.abs() <= PARALLEL_COSINE * e1.cross(e2).length() {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let t_vec = ray.origin - p0;
+    let b1 = t_vec.dot(p) * inv_det;
+    if !(0.0..=1.0).contains(&b1) {
+        return None;
+    }
+    let q = t_vec.cross(e1);
+    let b2 = ray.dir.dot(q) * inv_det;
+    if b2 < 0.0 || b1 + b2 > 1.0 {
+        return None;
+    }
+    let t = e2.dot(q) * inv_det;
+    (t > ray.t_min && t < ray.t_max).then_some(TriangleHit { t, b1, b2 })
+    // END SOLUTION
+}
+
+#[cfg(test)]
+mod checkpoint2 {
+    use super::*;
+    use crate::test_fixtures::{random_triangle, random_unit_vector};
+    use crate::rng::Rng;
+
+    fn unit_triangle() -> (Vec3, Vec3, Vec3) {
+        (Vec3::ZERO, Vec3::X, Vec3::Y)
+    }
+
+    /// A ray from `z = 1` straight down onto the point `(x, y, 0)`.
+    fn ray_down_at(x: f32, y: f32) -> Ray {
+        Ray::new(Vec3::new(x, y, 1.0), -Vec3::Z)
+    }
+
+    #[test]
+    fn a_ray_through_the_middle_hits_with_its_barycentrics() {
+        let (p0, p1, p2) = unit_triangle();
+        let hit = intersect_triangle(&ray_down_at(0.25, 0.5), p0, p1, p2).expect("hit");
+        assert!((hit.t - 1.0).abs() < 1e-6);
+        assert!((hit.b1 - 0.25).abs() < 1e-6);
+        assert!((hit.b2 - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_back_face_is_hit_too() {
+        let (p0, p1, p2) = unit_triangle();
+        let from_below = Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
+        let hit = intersect_triangle(&from_below, p0, p1, p2).expect("two-sided");
+        assert!((hit.t - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn points_just_inside_edges_and_vertices_hit_and_just_outside_miss() {
+        let (p0, p1, p2) = unit_triangle();
+        let d = 1e-4;
+        let inside = [(d, d), (0.5, d), (d, 0.5), (0.5 - d, 0.5 - d), (1.0 - 3.0 * d, d)];
+        let outside = [(-d, 0.5), (0.5, -d), (0.5 + d, 0.5 + d), (1.0 + d, 0.0), (-d, -d)];
+        for (x, y) in inside {
+            assert!(intersect_triangle(&ray_down_at(x, y), p0, p1, p2).is_some(), "({x}, {y})");
+        }
+        for (x, y) in outside {
+            assert!(intersect_triangle(&ray_down_at(x, y), p0, p1, p2).is_none(), "({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn a_triangle_behind_the_origin_is_not_hit() {
+        let (p0, p1, p2) = unit_triangle();
+        let away = Ray::new(Vec3::new(0.2, 0.2, 1.0), Vec3::Z);
+        assert!(intersect_triangle(&away, p0, p1, p2).is_none());
+    }
+
+    #[test]
+    fn hits_outside_the_open_t_window_are_rejected() {
+        let (p0, p1, p2) = unit_triangle();
+        let mut ray = ray_down_at(0.2, 0.2); // the hit is at t = 1
+        ray.t_max = 0.999;
+        assert!(intersect_triangle(&ray, p0, p1, p2).is_none(), "beyond t_max");
+        ray.t_max = 1.001;
+        assert!(intersect_triangle(&ray, p0, p1, p2).is_some());
+        ray.t_min = 1.001;
+        ray.t_max = f32::INFINITY;
+        assert!(intersect_triangle(&ray, p0, p1, p2).is_none(), "before t_min");
+    }
+
+    #[test]
+    fn parallel_rays_and_degenerate_triangles_miss() {
+        let (p0, p1, p2) = unit_triangle();
+        let in_plane = Ray::new(Vec3::new(-1.0, 0.2, 0.0), Vec3::X);
+        assert!(intersect_triangle(&in_plane, p0, p1, p2).is_none(), "ray in the plane");
+        let sliver = (Vec3::ZERO, Vec3::X, Vec3::new(2.0, 0.0, 0.0));
+        let down = ray_down_at(0.5, 0.0);
+        assert!(intersect_triangle(&down, sliver.0, sliver.1, sliver.2).is_none(), "collinear");
+        assert!(intersect_triangle(&down, p0, p0, p0).is_none(), "a point");
+    }
+
+    #[test]
+    fn the_parallel_test_scales_with_the_triangle() {
+        // A tiny triangle seen head-on: |det| = 1e-12, far below any absolute epsilon.
+        let s = 1e-6;
+        let (p0, p1, p2) = (Vec3::ZERO, Vec3::new(s, 0.0, 0.0), Vec3::new(0.0, s, 0.0));
+        let ray = Ray::new(Vec3::new(s / 4.0, s / 4.0, 1.0), -Vec3::Z);
+        assert!(intersect_triangle(&ray, p0, p1, p2).is_some());
+    }
+
+    #[test]
+    fn aiming_at_given_barycentrics_gives_them_back() {
+        let mut rng = Rng::new(2, 0);
+        for _ in 0..2000 {
+            let tri = random_triangle(&mut rng, 1.0);
+            let (b1, b2) = (rng.next_f32() * 0.8 + 0.1, rng.next_f32() * 0.8 + 0.1);
+            let (b1, b2) = if b1 + b2 > 0.9 { (1.0 - b1, 1.0 - b2) } else { (b1, b2) };
+            let target = tri.point(b1, b2);
+            let origin = target + 2.0 * random_unit_vector(&mut rng);
+            let ray = Ray::new(origin, target - origin);
+            let cos = ray.dir.dot(tri.normal()).abs();
+            let double_area = (tri.p1 - tri.p0).cross(tri.p2 - tri.p0).length();
+            if cos < 0.05 || double_area < 0.05 {
+                continue; // grazing or sliver: the input is ill-conditioned, not the code wrong
+            }
+            let hit = tri.intersect(&ray).expect("aimed at the inside");
+            // Error of a ratio of triple products with O(1) vectors: a few ε per product over |det|.
+            let tol = 64.0 * f32::EPSILON * 9.0 / (cos * double_area);
+            assert!((hit.b1 - b1).abs() < tol && (hit.b2 - b2).abs() < tol, "{hit:?} vs ({b1}, {b2})");
+            assert!((hit.t - (target - origin).length()).abs() < tol * 3.0);
+        }
+    }
+
+    #[test]
+    fn random_rays_agree_with_an_f64_oracle() {
+        let mut rng = Rng::new(3, 0);
+        let (mut agreed, mut hits) = (0, 0);
+        for _ in 0..20_000 {
+            let tri = random_triangle(&mut rng, 1.0);
+            let origin = 3.0 * random_unit_vector(&mut rng);
+            let towards = tri.centroid() + 0.8 * random_unit_vector(&mut rng);
+            let ray = Ray::new(origin, towards - origin);
+            let Some(oracle) = crate::test_fixtures::oracle_f64(&ray, &tri) else {
+                continue; // within rounding of an edge, a window end, or parallel
+            };
+            let got = tri.intersect(&ray);
+            assert_eq!(got.is_some(), oracle.is_some(), "{ray:?} {tri:?}: {got:?} vs {oracle:?}");
+            if let (Some(g), Some((t, b1, b2, bound))) = (got, oracle) {
+                hits += 1;
+                assert!((g.t as f64 - t).abs() < bound * t.max(1.0));
+                assert!((g.b1 as f64 - b1).abs() < bound && (g.b2 as f64 - b2).abs() < bound);
+            }
+            agreed += 1;
+        }
+        assert!(agreed > 19_000, "too many undecidable cases: {agreed}");
+        assert!(hits > 4_000, "the sample should contain many hits: {hits}");
+    }
+}

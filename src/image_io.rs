@@ -1,0 +1,160 @@
+//! From linear radiance to an 8-bit sRGB PNG on disk, and back.
+//!
+//! Output is: clamp to `[0, 1]`, apply the sRGB transfer function, round to 8 bits. The transfer
+//! function is `12.92 c` for `c ≤ 0.0031308`, else `1.055 c^(1/2.4) − 0.055` (IEC 61966-2-1).
+//! Files are written to a temporary name beside the target and renamed into place, so a failed
+//! or interrupted write never leaves half an image over a good one.
+
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+use image::{ImageEncoder, RgbImage};
+
+use crate::film::Film;
+use crate::math::Vec3;
+
+/// Errors reading or writing images; each names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// Writing failed.
+    #[error("{}: cannot write the image: {message}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
+    /// Reading or decoding failed.
+    #[error("{}: cannot read the image: {message}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
+}
+
+/// The sRGB encoding of a linear value in `[0, 1]`.
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The linear value of an sRGB-encoded value in `[0, 1]`.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// One linear channel as an 8-bit sRGB value. NaN becomes 0: a broken pixel shows black.
+pub fn encode_channel(c: f32) -> u8 {
+    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    (linear_to_srgb(c) * 255.0).round() as u8
+}
+
+/// The film as an 8-bit sRGB image.
+pub fn film_to_image(film: &Film) -> RgbImage {
+    let bytes = film.pixels().iter().flat_map(|p| p.to_array().map(encode_channel)).collect();
+    RgbImage::from_raw(film.width(), film.height(), bytes).expect("a film has width × height pixels")
+}
+
+/// An 8-bit sRGB image decoded to linear values.
+pub fn image_to_film(image: &RgbImage) -> Film {
+    let decode = |c: u8| srgb_to_linear(c as f32 / 255.0);
+    let pixels = image.pixels().map(|p| Vec3::new(decode(p[0]), decode(p[1]), decode(p[2]))).collect();
+    Film::from_pixels(image.width(), image.height(), pixels)
+}
+
+/// Writes `image` as a PNG at `path`, atomically: to a temporary file beside it, then renamed.
+pub fn write_png(path: &Path, image: &RgbImage) -> Result<(), ImageError> {
+    let fail = |message: String| ImageError::Write { path: path.to_path_buf(), message };
+    let name = path.file_name().ok_or_else(|| fail("not a file name".into()))?;
+    let temporary = path.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+    let result = (|| -> Result<(), String> {
+        let file = std::fs::File::create(&temporary).map_err(|e| e.to_string())?;
+        let mut out = BufWriter::new(file);
+        image::codecs::png::PngEncoder::new(&mut out)
+            .write_image(image.as_raw(), image.width(), image.height(), image::ExtendedColorType::Rgb8)
+            .map_err(|e| e.to_string())?;
+        let file = out.into_inner().map_err(|e| e.to_string())?;
+        file.sync_all().map_err(|e| e.to_string())?;
+        std::fs::rename(&temporary, path).map_err(|e| e.to_string())
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result.map_err(fail)
+}
+
+/// Reads a PNG (any bit depth or colour type) as 8-bit RGB.
+pub fn read_png(path: &Path) -> Result<RgbImage, ImageError> {
+    let fail = |message: String| ImageError::Read { path: path.to_path_buf(), message };
+    let reader = image::ImageReader::open(path).map_err(|e| fail(e.to_string()))?;
+    let image = reader.with_guessed_format().map_err(|e| fail(e.to_string()))?.decode().map_err(|e| fail(e.to_string()))?;
+    Ok(image.to_rgb8())
+}
+
+/// Writes the film as an sRGB PNG, atomically.
+pub fn write_film(path: &Path, film: &Film) -> Result<(), ImageError> {
+    write_png(path, &film_to_image(film))
+}
+
+
+#[cfg(test)]
+mod checkpoint1 {
+    use super::*;
+
+    #[test]
+    fn the_srgb_curve_matches_known_values_and_inverts() {
+        // Linear 0.5 is sRGB 0.7354; linear 0.2140 is sRGB 0.5 (IEC 61966-2-1).
+        assert!((linear_to_srgb(0.5) - 0.735_356_6).abs() < 1e-5);
+        assert!((srgb_to_linear(0.5) - 0.214_041_1).abs() < 1e-5);
+        for i in 0..=100 {
+            let c = i as f32 / 100.0;
+            assert!((srgb_to_linear(linear_to_srgb(c)) - c).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn encoding_clamps_and_blacks_out_nan() {
+        assert_eq!(encode_channel(-1.0), 0);
+        assert_eq!(encode_channel(7.0), 255);
+        assert_eq!(encode_channel(f32::NAN), 0);
+        assert_eq!(encode_channel(0.5), 188);
+    }
+
+    #[test]
+    fn a_film_round_trips_through_a_png_file() {
+        let dir = std::env::temp_dir().join(format!("raylab-film-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("film.png");
+        let pixels = (0..12).map(|i| Vec3::new(i as f32 / 11.0, 1.0 - i as f32 / 11.0, 0.25)).collect();
+        let film = Film::from_pixels(4, 3, pixels);
+        write_film(&path, &film).unwrap();
+        let back = read_png(&path).unwrap();
+        assert_eq!(back, film_to_image(&film), "8-bit values survive exactly");
+        // Decoded, each value is within half an 8-bit step of the original, in sRGB terms.
+        for (a, b) in film.pixels().iter().zip(image_to_film(&back).pixels()) {
+            for k in 0..3 {
+                assert!((linear_to_srgb(a[k]) - linear_to_srgb(b[k])).abs() <= 0.5 / 255.0 + 1e-6);
+            }
+        }
+        let leftovers = std::fs::read_dir(&dir).unwrap().count();
+        assert_eq!(leftovers, 1, "no temporary file is left behind");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_failed_write_names_the_file_and_leaves_nothing() {
+        let path = std::env::temp_dir().join("raylab-no-such-dir/x/out.png");
+        let err = write_film(&path, &Film::new(2, 2)).unwrap_err();
+        assert!(err.to_string().contains("out.png"), "{err}");
+        assert!(!path.exists());
+    }
+}

@@ -1,0 +1,42 @@
+//! Integrators: the radiance arriving along a camera ray.
+//!
+//! Both integrators follow a ray through glass to the first diffuse surface with
+//! [`trace_to_diffuse`] (checkpoint 5); they differ only in how they shade that surface. So the
+//! intersection-test integrator needs no lights, and checkpoint 5 never waits for checkpoint 6.
+
+mod direct_lighting;
+mod intersection_test;
+
+pub use direct_lighting::{direct_from_point_light, DirectLightingIntegrator};
+pub use intersection_test::{trace_to_diffuse, DiffuseHit, IntersectionTestIntegrator};
+
+use crate::math::{Ray, Vec3};
+use crate::scene::{IntegratorKind, RenderSettings, World};
+
+/// The integrator a scene asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integrator {
+    /// Checkpoint 5.
+    IntersectionTest(IntersectionTestIntegrator),
+    /// Checkpoint 6.
+    DirectLighting(DirectLightingIntegrator),
+}
+
+impl Integrator {
+    /// The integrator `settings` name, with their `max_depth`.
+    pub fn from_settings(settings: &RenderSettings) -> Self {
+        let max_depth = settings.max_depth;
+        match settings.integrator {
+            IntegratorKind::IntersectionTest => Self::IntersectionTest(IntersectionTestIntegrator { max_depth }),
+            IntegratorKind::DirectLighting => Self::DirectLighting(DirectLightingIntegrator { max_depth }),
+        }
+    }
+
+    /// Radiance arriving at the ray's origin from along `ray` (linear RGB).
+    pub fn li(&self, world: &World, ray: Ray) -> Vec3 {
+        match self {
+            Self::IntersectionTest(i) => i.li(world, ray),
+            Self::DirectLighting(i) => i.li(world, ray),
+        }
+    }
+}

@@ -1,0 +1,41 @@
+//! raylab: a ray tracer built to be written by students, one checkpoint at a time, and graded.
+//!
+//! # The checkpoint map
+//!
+//! | checkpoint | task | where | tests |
+//! |---|---|---|---|
+//! | 1 | environment: scenes load, camera rays, PNG output | [`scene`], [`camera`], [`image_io`] | `cargo test checkpoint1` |
+//! | 2 | ray-triangle intersection (Möller-Trumbore) | `src/geometry/triangle.rs`: [`geometry::intersect_triangle`] | `cargo test checkpoint2` |
+//! | 3 | ray-box intersection (slab test) | `src/geometry/aabb.rs`: [`geometry::Aabb::intersect`] | `cargo test checkpoint3` |
+//! | 4 | BVH: object-median split and traversal | `src/geometry/bvh/split.rs`, `src/geometry/bvh/traverse.rs` | `cargo test checkpoint4` |
+//! | 5 | glass (Snell's law) and the intersection-test integrator | `src/material.rs`, `src/integrator/intersection_test.rs` | `cargo test checkpoint5` |
+//! | 6 | direct lighting: Lambertian BRDF, point lights, shadows | `src/integrator/direct_lighting.rs` | `cargo test checkpoint6` |
+//! | 7 | anti-aliasing: jittered samples per pixel | `src/sampling.rs`: [`sampling::estimate_pixel`] | `cargo test checkpoint7` |
+//!
+//! Every task's code sits between `// BEGIN SOLUTION checkpointN` and `// END SOLUTION`; the
+//! student starter replaces it with `todo!()`. The conventions all checkpoints share (ray ranges,
+//! `wo`/`wi`, normals, `eta`) are in [`math`].
+//!
+//! # The pipeline
+//!
+//! `scene.toml` → [`scene::Scene::load`] → [`scene::World::new`] (builds the [`geometry::Bvh`]) →
+//! [`render::render`] (camera rays, [`integrator::Integrator`], [`sampling`]) → [`film::Film`] →
+//! [`image_io::write_film`] (sRGB PNG).
+
+#![warn(missing_docs)]
+
+pub mod camera;
+pub mod film;
+pub mod geometry;
+pub mod image_io;
+pub mod integrator;
+pub mod light;
+pub mod material;
+pub mod math;
+pub mod render;
+pub mod rng;
+pub mod sampling;
+pub mod scene;
+
+#[cfg(test)]
+mod test_fixtures;

@@ -1,0 +1,226 @@
+//! The scene file format: TOML, read with serde into these types. Unknown keys are errors.
+//!
+//! Value checks that need only one value (finite numbers, a resolution in range, a non-zero
+//! scale) run while deserializing, so their errors carry the value's position in the file.
+//! Checks across values (a material that exists, a mesh file that loads) are in `load.rs`.
+//! `scenes/README.md` documents the format with an annotated example.
+
+use std::collections::BTreeMap;
+
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer};
+use toml::Spanned;
+
+use crate::math::Vec3;
+
+/// Largest film side accepted, in pixels.
+pub const MAX_RESOLUTION: u32 = 8192;
+/// Most icosphere subdivisions accepted (20 · 4^8 ≈ 1.3 million triangles).
+pub const MAX_SUBDIVISIONS: u32 = 8;
+
+/// A whole scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    /// The camera and film.
+    pub camera: CameraDesc,
+    /// How to render.
+    pub integrator: IntegratorDesc,
+    /// Materials by name.
+    pub materials: BTreeMap<String, MaterialDesc>,
+    /// Point lights.
+    #[serde(default)]
+    pub lights: Vec<LightDesc>,
+    /// The objects.
+    #[serde(default)]
+    pub objects: Vec<ObjectDesc>,
+}
+
+/// `[camera]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye position.
+    #[serde(deserialize_with = "finite_vec3")]
+    pub position: Vec3,
+    /// The point the camera looks at.
+    #[serde(deserialize_with = "finite_vec3")]
+    pub look_at: Vec3,
+    /// Roughly up; not parallel to the view direction.
+    #[serde(deserialize_with = "finite_vec3")]
+    pub up: Vec3,
+    /// Vertical field of view in degrees, in (0, 180).
+    #[serde(deserialize_with = "field_of_view")]
+    pub fov: f32,
+    /// Film width in pixels, 1 to 8192.
+    #[serde(deserialize_with = "resolution")]
+    pub width: u32,
+    /// Film height in pixels, 1 to 8192.
+    #[serde(deserialize_with = "resolution")]
+    pub height: u32,
+}
+
+/// `[integrator]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegratorDesc {
+    /// Which integrator.
+    pub kind: IntegratorKind,
+    /// Samples per pixel, at least 1.
+    #[serde(default = "one", deserialize_with = "positive")]
+    pub spp: u32,
+    /// Most specular bounces followed.
+    #[serde(default = "default_max_depth")]
+    pub max_depth: u32,
+    /// Seed of the per-pixel random numbers.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+/// The integrators a scene can ask for.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorKind {
+    /// Checkpoint 5: surfaces shaded by albedo and viewing angle, no lights.
+    IntersectionTest,
+    /// Checkpoint 6: point lights, Lambertian shading, shadows.
+    DirectLighting,
+}
+
+/// One `[materials.NAME]` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
+pub enum MaterialDesc {
+    /// `kind = "diffuse"`.
+    Diffuse {
+        /// Albedo per channel, each in [0, 1].
+        #[serde(deserialize_with = "albedo")]
+        albedo: Vec3,
+    },
+    /// `kind = "glass"`.
+    Glass {
+        /// Index of refraction, finite and positive.
+        #[serde(deserialize_with = "positive_finite")]
+        ior: f32,
+    },
+}
+
+/// One `[[lights]]` entry: a point light.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightDesc {
+    /// Position.
+    #[serde(deserialize_with = "finite_vec3")]
+    pub position: Vec3,
+    /// Emitted power Φ per channel in watts, finite and not negative.
+    #[serde(deserialize_with = "flux")]
+    pub flux: Vec3,
+}
+
+/// One `[[objects]]` entry.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectDesc {
+    /// Which shape.
+    pub shape: Spanned<ShapeKind>,
+    /// For `shape = "sphere"`: subdivisions of the icosahedron, 0 to 8.
+    pub subdivisions: Option<Spanned<u32>>,
+    /// For `shape = "obj"`: the mesh file, relative to the scene file.
+    pub file: Option<Spanned<String>>,
+    /// Name of a material in `[materials]`.
+    pub material: Spanned<String>,
+    /// Translation.
+    #[serde(default, deserialize_with = "finite_vec3")]
+    pub translate: Vec3,
+    /// Rotation in degrees about the fixed X, then Y, then Z axes.
+    #[serde(default, deserialize_with = "finite_vec3")]
+    pub rotate: Vec3,
+    /// Scale per axis, non-zero (negative mirrors).
+    #[serde(default = "unit_scale", deserialize_with = "scale")]
+    pub scale: Vec3,
+}
+
+/// The shapes an object can have.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ShapeKind {
+    /// The square [-1, 1]² in the plane y = 0, facing +y.
+    Quad,
+    /// The cube [-1, 1]³.
+    Box,
+    /// The unit sphere, as a subdivided icosahedron.
+    Sphere,
+    /// A mesh from an OBJ file.
+    Obj,
+}
+
+fn one() -> u32 {
+    1
+}
+
+fn default_max_depth() -> u32 {
+    8
+}
+
+fn unit_scale() -> Vec3 {
+    Vec3::ONE
+}
+
+/// Reads a value, then checks it with `valid`, failing with `message` (serde attaches the span).
+fn checked<'de, D, T>(d: D, valid: impl Fn(&T) -> bool, message: &str) -> Result<T, D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    let value = T::deserialize(d)?;
+    if valid(&value) {
+        Ok(value)
+    } else {
+        Err(D::Error::custom(message))
+    }
+}
+
+fn finite_vec3<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
+    let v: [f32; 3] = checked(d, |v: &[f32; 3]| v.iter().all(|x| x.is_finite()), "expected three finite numbers")?;
+    Ok(Vec3::from(v))
+}
+
+fn albedo<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
+    let ok = |v: &[f32; 3]| v.iter().all(|x| (0.0..=1.0).contains(x));
+    checked(d, ok, "expected three numbers in [0, 1] (an albedo above 1 creates energy)").map(Vec3::from)
+}
+
+fn flux<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
+    let ok = |v: &[f32; 3]| v.iter().all(|x| x.is_finite() && *x >= 0.0);
+    checked(d, ok, "expected three finite numbers, none negative").map(Vec3::from)
+}
+
+fn scale<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
+    let ok = |v: &[f32; 3]| v.iter().all(|x| x.is_finite() && *x != 0.0);
+    checked(d, ok, "expected three finite, non-zero numbers (zero flattens the object)").map(Vec3::from)
+}
+
+fn field_of_view<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
+    checked(d, |f: &f32| *f > 0.0 && *f < 180.0, "expected degrees between 0 and 180, exclusive")
+}
+
+fn positive_finite<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
+    checked(d, |f: &f32| f.is_finite() && *f > 0.0, "expected a finite number above 0")
+}
+
+fn resolution<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    let message = format!("expected a whole number of pixels from 1 to {MAX_RESOLUTION}");
+    let value = i64::deserialize(d)?;
+    match u32::try_from(value) {
+        Ok(v) if (1..=MAX_RESOLUTION).contains(&v) => Ok(v),
+        _ => Err(D::Error::custom(message)),
+    }
+}
+
+fn positive<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    let value = i64::deserialize(d)?;
+    match u32::try_from(value) {
+        Ok(v) if v >= 1 => Ok(v),
+        _ => Err(D::Error::custom("expected a whole number of at least 1")),
+    }
+}

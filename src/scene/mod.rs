@@ -1,0 +1,49 @@
+//! Scenes: the file format ([`desc`]), loading ([`Scene::load`]), and the [`World`] integrators
+//! trace rays in.
+//!
+//! The way is one direction: a scene file is parsed into a [`desc::SceneDesc`], checked and turned
+//! into a [`Scene`] (camera, world-space triangles, materials, lights); a [`World`] adds the BVH.
+
+pub mod desc;
+mod error;
+mod load;
+mod world;
+
+pub use desc::IntegratorKind;
+pub use error::{Location, SceneError};
+pub use world::{SurfaceHit, World};
+
+use crate::camera::Camera;
+use crate::geometry::Triangle;
+use crate::light::PointLight;
+use crate::material::Material;
+
+/// How a scene asks to be rendered (each can be overridden on the command line).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderSettings {
+    /// Which integrator computes radiance.
+    pub integrator: IntegratorKind,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Most specular bounces a path follows.
+    pub max_depth: u32,
+    /// Seed of the per-pixel random numbers.
+    pub seed: u64,
+}
+
+/// A loaded scene: everything in world space, ready for a BVH to be built over it.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The camera and film size.
+    pub camera: Camera,
+    /// How to render it.
+    pub settings: RenderSettings,
+    /// Every triangle of every object, in world space.
+    pub triangles: Vec<Triangle>,
+    /// `triangle_materials[i]` indexes `materials` for `triangles[i]`.
+    pub triangle_materials: Vec<u32>,
+    /// The materials, in name order.
+    pub materials: Vec<Material>,
+    /// The point lights.
+    pub lights: Vec<PointLight>,
+}
