@@ -127,8 +127,9 @@ mod checkpoint5 {
             wo.y = wo.y.abs().max(0.05);
             let wo = wo.normalize();
             let wt = refract(wo, Vec3::Y, 1.0 / 1.5).unwrap();
-            let back = refract(-wt, -Vec3::Y, 1.5).expect("the way back never reflects");
-            assert!((back + wo).length() < 1e-5, "{wo} -> {wt} -> {back}");
+            // Travelling back along −wt, the ray's wo is wt, on the side of the normal −y.
+            let back = refract(wt, -Vec3::Y, 1.5).expect("the way back never reflects");
+            assert!((back - wo).length() < 1e-5, "{wo} -> {wt} -> {back}");
         }
     }
 

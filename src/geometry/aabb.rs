@@ -232,11 +232,15 @@ mod checkpoint3 {
         for i in 0..20_000 {
             let corner = |rng: &mut Rng| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0;
             let b = Aabb::new(corner(&mut rng), corner(&mut rng));
-            let mut dir = random_unit_vector(&mut rng);
+            let dir = random_unit_vector(&mut rng);
+            // Aim near the box's centre so that about half the rays hit.
+            let origin = 3.0 * random_unit_vector(&mut rng);
+            let aim = (b.min + b.max) / 2.0 + 0.6 * random_unit_vector(&mut rng) - origin;
+            let mut dir = if i % 2 == 0 { dir } else { aim };
             if i % 4 == 0 {
                 dir[i / 4 % 3] = 0.0; // exercise zero components too
             }
-            let ray = Ray::new(3.0 * random_unit_vector(&mut rng), dir);
+            let ray = Ray::new(origin, dir);
             let (got, want) = (b.intersect(&ray), oracle(&b, &ray));
             // Each t is one subtraction and one product of O(1) values: within a few ε of the
             // exact value relative to its size. Cases closer than that to a miss are undecidable.

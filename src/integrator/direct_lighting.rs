@@ -211,6 +211,9 @@ mod checkpoint6 {
         let world = World::new(&scene, SplitMethod::ObjectMedian);
         let li = DirectLightingIntegrator { max_depth: 8 }.li(&world, Ray::new(eye, dir));
         let r2 = x * x + 0.25;
-        assert_close(li, 0.5 / PI * (0.5 / r2.sqrt()) / r2);
+        let want = 0.5 / PI * (0.5 / r2.sqrt()) / r2;
+        // The two glass surfaces' ray offsets move the landing point by up to 1.2e-3 (see
+        // checkpoint 5's slab test); L ∝ 1/r³ changes by 3 |x| dx / r² ≈ 3 dx relative here.
+        assert!((li.x - want).abs() < 3.0 * 1.2e-3 * want, "{li} vs {want}");
     }
 }

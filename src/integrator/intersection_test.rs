@@ -142,7 +142,9 @@ mod checkpoint5 {
         // (x += tan θt); below, 0.5 (x += 0.5).
         let sin_t = 45f32.to_radians().sin() / 1.5;
         let expected_x = 1.5 + sin_t / (1.0 - sin_t * sin_t).sqrt();
-        assert!((d.hit.p - Vec3::new(expected_x, -1.0, 0.0)).length() < 1e-4, "{}", d.hit.p);
+        // Each glass surface starts the next ray δ = 1e-4 (1 + max |p|) ≈ 3e-4 off the surface
+        // (math::spawn_ray), shifting the landing point by δ (1 + tan θ) at most: 2 surfaces.
+        assert!((d.hit.p - Vec3::new(expected_x, -1.0, 0.0)).length() < 2.0 * 3e-4 * 2.0, "{}", d.hit.p);
     }
 
     #[test]
@@ -152,7 +154,7 @@ mod checkpoint5 {
         let dir = Vec3::new(0.3, -1.0, 0.2).normalize();
         let d = trace_to_diffuse(&world, Ray::new(Vec3::new(0.0, 1.5, 0.0), dir), 8).unwrap();
         let straight = Ray::new(Vec3::new(0.0, 1.5, 0.0), dir).at(2.5 / -dir.y);
-        assert!((d.hit.p - straight).length() < 1e-4);
+        assert!((d.hit.p - straight).length() < 1e-4, "index 1 bends nothing; offsets are along the ray");
     }
 
     #[test]
