@@ -96,7 +96,11 @@ pub fn write_png(path: &Path, image: &RgbImage) -> Result<(), ImageError> {
 pub fn read_png(path: &Path) -> Result<RgbImage, ImageError> {
     let fail = |message: String| ImageError::Read { path: path.to_path_buf(), message };
     let reader = image::ImageReader::open(path).map_err(|e| fail(e.to_string()))?;
-    let image = reader.with_guessed_format().map_err(|e| fail(e.to_string()))?.decode().map_err(|e| fail(e.to_string()))?;
+    let image = reader
+        .with_guessed_format()
+        .map_err(|e| fail(e.to_string()))?
+        .decode()
+        .map_err(|e| fail(e.to_string()))?;
     Ok(image.to_rgb8())
 }
 
@@ -104,7 +108,6 @@ pub fn read_png(path: &Path) -> Result<RgbImage, ImageError> {
 pub fn write_film(path: &Path, film: &Film) -> Result<(), ImageError> {
     write_png(path, &film_to_image(film))
 }
-
 
 #[cfg(test)]
 mod checkpoint1 {

@@ -116,7 +116,7 @@ mod checkpoint5 {
         // Leaving glass at 60 degrees inside: the ray reflects inside, as a mirror.
         let inside_wo = -wo_at(60.0); // below the surface, outward normal +y
         let wi = refract_or_reflect(inside_wo, Vec3::Y, 1.5);
-        assert!((wi - Vec3::new(inside_wo.x * -1.0, inside_wo.y, 0.0)).length() < 1e-6, "{wi}");
+        assert!((wi - Vec3::new(-inside_wo.x, inside_wo.y, 0.0)).length() < 1e-6, "{wi}");
     }
 
     #[test]

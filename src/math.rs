@@ -52,13 +52,7 @@ impl Ray {
     pub fn segment(origin: Vec3, dir: Vec3, t_max: f32) -> Self {
         let dir = dir.normalize();
         debug_assert!(dir.is_finite(), "ray direction must be non-zero and finite");
-        Self {
-            origin,
-            dir,
-            inv_dir: dir.recip(),
-            t_min: 0.0,
-            t_max,
-        }
+        Self { origin, dir, inv_dir: dir.recip(), t_min: 0.0, t_max }
     }
 
     /// The point at parameter `t`.

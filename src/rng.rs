@@ -17,10 +17,7 @@ const MULTIPLIER: u64 = 6_364_136_223_846_793_005;
 impl Rng {
     /// A generator for `seed` on stream `stream`; distinct streams give unrelated sequences.
     pub fn new(seed: u64, stream: u64) -> Self {
-        let mut rng = Self {
-            state: 0,
-            increment: (stream << 1) | 1,
-        };
+        let mut rng = Self { state: 0, increment: (stream << 1) | 1 };
         rng.next_u32();
         rng.state = rng.state.wrapping_add(seed);
         rng.next_u32();

@@ -35,7 +35,8 @@ pub fn random_mesh(rng: &mut Rng, n: usize) -> Vec<Triangle> {
 /// Meshes that break naive builders: none, one triangle, all centroids equal, coplanar,
 /// slivers, and a closed sphere.
 pub fn awkward_meshes() -> Vec<Vec<Triangle>> {
-    let one = vec![Triangle::new(Vec3::new(-0.3, -0.3, 0.0), Vec3::new(0.3, -0.3, 0.0), Vec3::new(0.0, 0.3, 0.1))];
+    let one =
+        vec![Triangle::new(Vec3::new(-0.3, -0.3, 0.0), Vec3::new(0.3, -0.3, 0.0), Vec3::new(0.0, 0.3, 0.1))];
     // Triangles rotated about a common centroid at the origin.
     let same_centroid = (0..40)
         .map(|i| {

@@ -43,17 +43,11 @@ pub struct Aabb {
 
 impl Aabb {
     /// The empty box: the identity of [`Aabb::union`].
-    pub const EMPTY: Aabb = Aabb {
-        min: Vec3::INFINITY,
-        max: Vec3::NEG_INFINITY,
-    };
+    pub const EMPTY: Aabb = Aabb { min: Vec3::INFINITY, max: Vec3::NEG_INFINITY };
 
     /// The box spanned by two corners, in any order.
     pub fn new(a: Vec3, b: Vec3) -> Self {
-        Self {
-            min: a.min(b),
-            max: a.max(b),
-        }
+        Self { min: a.min(b), max: a.max(b) }
     }
 
     /// The box holding exactly one point.
@@ -63,18 +57,12 @@ impl Aabb {
 
     /// This box enlarged to contain `p`.
     pub fn grow(self, p: Vec3) -> Self {
-        Self {
-            min: self.min.min(p),
-            max: self.max.max(p),
-        }
+        Self { min: self.min.min(p), max: self.max.max(p) }
     }
 
     /// The smallest box containing both.
     pub fn union(self, other: Aabb) -> Self {
-        Self {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
+        Self { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
 
     /// `max − min` (negative for the empty box).
@@ -230,7 +218,8 @@ mod checkpoint3 {
         let mut rng = Rng::new(4, 0);
         let mut hits = 0;
         for i in 0..20_000 {
-            let corner = |rng: &mut Rng| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0;
+            let corner =
+                |rng: &mut Rng| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0;
             let b = Aabb::new(corner(&mut rng), corner(&mut rng));
             let dir = random_unit_vector(&mut rng);
             // Aim near the box's centre so that about half the rays hit.

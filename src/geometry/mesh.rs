@@ -48,9 +48,7 @@ impl TriangleMesh {
     /// The cube `[-1, 1]³`, twelve triangles facing outward.
     pub fn cuboid() -> Self {
         // Corner i has x, y, z = ±1 from bits 0, 1, 2 of i.
-        let positions = (0..8)
-            .map(|i| Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)))
-            .collect();
+        let positions = (0..8).map(|i| Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4))).collect();
         // Each face as a cycle of four corners; `orient_outward` fixes the winding.
         let faces = [[0, 2, 6, 4], [1, 3, 7, 5], [0, 1, 5, 4], [2, 3, 7, 6], [0, 1, 3, 2], [4, 5, 7, 6]];
         let indices = faces.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
@@ -97,11 +95,7 @@ impl TriangleMesh {
 
     /// Loads every object of an OBJ file into one mesh (polygons are triangulated).
     pub fn load_obj(path: &Path) -> Result<Self, tobj::LoadError> {
-        let options = tobj::LoadOptions {
-            triangulate: true,
-            single_index: true,
-            ..Default::default()
-        };
+        let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
         let (models, _materials) = tobj::load_obj(path, &options)?;
         let mut mesh = Self::default();
         for model in models {
@@ -133,9 +127,7 @@ impl TriangleMesh {
     /// The triangles, in index order.
     pub fn triangles(&self) -> impl Iterator<Item = Triangle> + '_ {
         let p = &self.positions;
-        self.indices
-            .iter()
-            .map(|&[a, b, c]| Triangle::new(p[a as usize], p[b as usize], p[c as usize]))
+        self.indices.iter().map(|&[a, b, c]| Triangle::new(p[a as usize], p[b as usize], p[c as usize]))
     }
 
     /// Winds every triangle of a convex mesh around the origin so its normal points away from it.
@@ -238,7 +230,11 @@ mod tests {
 
     #[test]
     fn a_mirroring_transform_keeps_normals_outward() {
-        let m = transform_matrix(Vec3::new(1.0, 2.0, 3.0), Vec3::new(10.0, 20.0, 30.0), Vec3::new(-1.0, 0.5, 2.0));
+        let m = transform_matrix(
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(10.0, 20.0, 30.0),
+            Vec3::new(-1.0, 0.5, 2.0),
+        );
         let cube = TriangleMesh::cuboid();
         let placed = cube.clone().transformed(&m);
         let normal_matrix = m.inverse().transpose();
@@ -246,7 +242,11 @@ mod tests {
             let expected = normal_matrix.transform_vector3(before.normal()).normalize();
             assert!((after.normal() - expected).length() < 1e-5);
         }
-        assert_closed_and_outward(&placed.transformed(&Mat4::from_translation(-Vec3::new(1.0, 2.0, 3.0))), 8.0, 1e-3);
+        assert_closed_and_outward(
+            &placed.transformed(&Mat4::from_translation(-Vec3::new(1.0, 2.0, 3.0))),
+            8.0,
+            1e-3,
+        );
     }
 
     #[test]

@@ -125,8 +125,8 @@ pub fn intersect_triangle(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<Tri
 #[cfg(test)]
 mod checkpoint2 {
     use super::*;
-    use crate::test_fixtures::{random_triangle, random_unit_vector};
     use crate::rng::Rng;
+    use crate::test_fixtures::{random_triangle, random_unit_vector};
 
     fn unit_triangle() -> (Vec3, Vec3, Vec3) {
         (Vec3::ZERO, Vec3::X, Vec3::Y)

@@ -139,7 +139,8 @@ mod checkpoint6 {
         let target = Vec3::new(0.2, 0.0, 0.3);
         let eye = Vec3::new(0.0, 3.0, 3.0);
         let both = li_looking_at(&floor_scene(&format!("{l1}{l2}")), target, eye);
-        let sum = li_looking_at(&floor_scene(&l1), target, eye) + li_looking_at(&floor_scene(&l2), target, eye);
+        let sum =
+            li_looking_at(&floor_scene(&l1), target, eye) + li_looking_at(&floor_scene(&l2), target, eye);
         assert!((both - sum).abs().max_element() < 1e-6);
         assert!(both.x > 0.0);
     }

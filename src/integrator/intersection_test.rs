@@ -136,7 +136,8 @@ mod checkpoint5 {
         let scene = slab_scene(1.5);
         let world = World::new(&scene, SplitMethod::ObjectMedian);
         let dir = Vec3::new(1.0, -1.0, 0.0).normalize();
-        let d = trace_to_diffuse(&world, Ray::new(Vec3::new(0.0, 1.5, 0.0), dir), 8).expect("reaches the floor");
+        let d =
+            trace_to_diffuse(&world, Ray::new(Vec3::new(0.0, 1.5, 0.0), dir), 8).expect("reaches the floor");
         assert!((d.wo + dir).length() < 1e-5, "leaves parallel to how it entered: {}", -d.wo);
         // Above the slab the ray drops 1 (x += 1); inside, 1 at sin θt = sin 45° / 1.5
         // (x += tan θt); below, 0.5 (x += 0.5).

@@ -27,7 +27,9 @@ impl Integrator {
     pub fn from_settings(settings: &RenderSettings) -> Self {
         let max_depth = settings.max_depth;
         match settings.integrator {
-            IntegratorKind::IntersectionTest => Self::IntersectionTest(IntersectionTestIntegrator { max_depth }),
+            IntegratorKind::IntersectionTest => {
+                Self::IntersectionTest(IntersectionTestIntegrator { max_depth })
+            }
             IntegratorKind::DirectLighting => Self::DirectLighting(DirectLightingIntegrator { max_depth }),
         }
     }

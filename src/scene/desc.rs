@@ -87,22 +87,29 @@ pub enum IntegratorKind {
     DirectLighting,
 }
 
-/// One `[materials.NAME]` table.
+/// One `[materials.NAME]` table. Which fields a kind needs is checked in `load.rs` (a plain
+/// struct, not a tagged enum, so that serde keeps every value's position for errors).
 #[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
-pub enum MaterialDesc {
-    /// `kind = "diffuse"`.
-    Diffuse {
-        /// Albedo per channel, each in [0, 1].
-        #[serde(deserialize_with = "albedo")]
-        albedo: Vec3,
-    },
-    /// `kind = "glass"`.
-    Glass {
-        /// Index of refraction, finite and positive.
-        #[serde(deserialize_with = "positive_finite")]
-        ior: f32,
-    },
+#[serde(deny_unknown_fields)]
+pub struct MaterialDesc {
+    /// Which material.
+    pub kind: Spanned<MaterialKind>,
+    /// For diffuse: albedo per channel, each in [0, 1].
+    #[serde(default, deserialize_with = "albedo")]
+    pub albedo: Option<Vec3>,
+    /// For glass: index of refraction, finite and positive.
+    #[serde(default, deserialize_with = "positive_finite")]
+    pub ior: Option<f32>,
+}
+
+/// The kinds of material.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum MaterialKind {
+    /// Lambertian, needs `albedo`.
+    Diffuse,
+    /// Perfect refraction, needs `ior`.
+    Glass,
 }
 
 /// One `[[lights]]` entry: a point light.
@@ -154,6 +161,16 @@ pub enum ShapeKind {
     Obj,
 }
 
+impl MaterialKind {
+    /// The name used in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Diffuse => "diffuse",
+            Self::Glass => "glass",
+        }
+    }
+}
+
 fn one() -> u32 {
     1
 }
@@ -181,13 +198,15 @@ where
 }
 
 fn finite_vec3<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
-    let v: [f32; 3] = checked(d, |v: &[f32; 3]| v.iter().all(|x| x.is_finite()), "expected three finite numbers")?;
+    let v: [f32; 3] =
+        checked(d, |v: &[f32; 3]| v.iter().all(|x| x.is_finite()), "expected three finite numbers")?;
     Ok(Vec3::from(v))
 }
 
-fn albedo<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
+fn albedo<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vec3>, D::Error> {
     let ok = |v: &[f32; 3]| v.iter().all(|x| (0.0..=1.0).contains(x));
-    checked(d, ok, "expected three numbers in [0, 1] (an albedo above 1 creates energy)").map(Vec3::from)
+    let message = "expected three numbers in [0, 1] (an albedo above 1 creates energy)";
+    checked(d, ok, message).map(|v| Some(Vec3::from(v)))
 }
 
 fn flux<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
@@ -204,8 +223,8 @@ fn field_of_view<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
     checked(d, |f: &f32| *f > 0.0 && *f < 180.0, "expected degrees between 0 and 180, exclusive")
 }
 
-fn positive_finite<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
-    checked(d, |f: &f32| f.is_finite() && *f > 0.0, "expected a finite number above 0")
+fn positive_finite<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f32>, D::Error> {
+    checked(d, |f: &f32| f.is_finite() && *f > 0.0, "expected a finite number above 0").map(Some)
 }
 
 fn resolution<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {

@@ -70,11 +70,7 @@ impl SourceMap<'_> {
         let line = before.matches('\n').count() + 1;
         let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
         SceneError::Invalid {
-            location: Location {
-                path: DisplayPath(self.path.to_path_buf()),
-                line,
-                column,
-            },
+            location: Location { path: DisplayPath(self.path.to_path_buf()), line, column },
             field: self.field_at(line),
             message: one_line(&message.into()),
         }
@@ -113,10 +109,8 @@ impl SourceMap<'_> {
             }
         }
         let here = lines.get(line.saturating_sub(1)).map_or("", |l| l.trim());
-        let key = here
-            .split_once('=')
-            .map(|(k, _)| k.trim())
-            .filter(|k| !k.is_empty() && !k.starts_with('['));
+        let key =
+            here.split_once('=').map(|(k, _)| k.trim()).filter(|k| !k.is_empty() && !k.starts_with('['));
         match (table.is_empty(), key) {
             (true, None) => "(top level)".to_string(),
             (false, None) => table,

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
 
-use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeKind, MAX_SUBDIVISIONS};
+use super::desc::{MaterialDesc, MaterialKind, ObjectDesc, SceneDesc, ShapeKind, MAX_SUBDIVISIONS};
 use super::error::{DisplayPath, SceneError, SourceMap};
 use super::{RenderSettings, Scene};
 use crate::camera::Camera;
@@ -21,10 +21,8 @@ const DEFAULT_SUBDIVISIONS: u32 = 3;
 impl Scene {
     /// Loads the scene file at `path`; mesh files are found relative to it.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
-            path: DisplayPath(path.to_path_buf()),
-            source,
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| SceneError::Read { path: DisplayPath(path.to_path_buf()), source })?;
         Self::from_toml(&text, path)
     }
 
@@ -39,19 +37,17 @@ impl Scene {
             return Err(map.error(map.key_span("camera", "look_at"), "must differ from the camera position"));
         }
         if view.normalize().cross(c.up).length() < 1e-3 * c.up.length() {
-            return Err(map.error(map.key_span("camera", "up"), "must not be parallel to the view direction (or zero)"));
+            return Err(map.error(
+                map.key_span("camera", "up"),
+                "must not be parallel to the view direction (or zero)",
+            ));
         }
         let camera = Camera::new(c.position, c.look_at, c.up, c.fov, c.width, c.height);
 
-        let names: BTreeMap<&str, u32> = desc.materials.keys().enumerate().map(|(i, k)| (k.as_str(), i as u32)).collect();
-        let materials = desc
-            .materials
-            .values()
-            .map(|m| match *m {
-                MaterialDesc::Diffuse { albedo } => Material::Diffuse { albedo },
-                MaterialDesc::Glass { ior } => Material::PerfectRefraction { ior },
-            })
-            .collect();
+        let names: BTreeMap<&str, u32> =
+            desc.materials.keys().enumerate().map(|(i, k)| (k.as_str(), i as u32)).collect();
+        let materials =
+            desc.materials.iter().map(|(name, m)| material(name, m, &map)).collect::<Result<_, _>>()?;
         let lights = desc.lights.iter().map(|l| PointLight { position: l.position, flux: l.flux }).collect();
 
         let mut scene = Scene {
@@ -70,7 +66,11 @@ impl Scene {
         for object in &desc.objects {
             let material = *names.get(object.material.get_ref().as_str()).ok_or_else(|| {
                 let known: Vec<&str> = names.keys().copied().collect();
-                let message = format!("no material named {:?} (known: {})", object.material.get_ref(), known.join(", "));
+                let message = format!(
+                    "no material named {:?} (known: {})",
+                    object.material.get_ref(),
+                    known.join(", ")
+                );
                 map.error(Some(object.material.span()), message)
             })?;
             let mesh = object_mesh(object, &map)?;
@@ -80,6 +80,28 @@ impl Scene {
             scene.triangle_materials.resize(scene.triangles.len(), material);
         }
         Ok(scene)
+    }
+}
+
+/// The material a `[materials.NAME]` table describes, with the fields its kind needs.
+fn material(name: &str, desc: &MaterialDesc, map: &SourceMap) -> Result<Material, SceneError> {
+    let table = format!("materials.{name}");
+    let unexpected = |key: &str| {
+        map.error(
+            map.key_span(&table, key),
+            format!("a {} material has no {key}", desc.kind.get_ref().name()),
+        )
+    };
+    let missing = |key: &str| map.error(Some(desc.kind.span()), format!("this material needs {key} = ..."));
+    match desc.kind.get_ref() {
+        MaterialKind::Diffuse if desc.ior.is_some() => Err(unexpected("ior")),
+        MaterialKind::Diffuse => {
+            Ok(Material::Diffuse { albedo: desc.albedo.ok_or_else(|| missing("albedo"))? })
+        }
+        MaterialKind::Glass if desc.albedo.is_some() => Err(unexpected("albedo")),
+        MaterialKind::Glass => {
+            Ok(Material::PerfectRefraction { ior: desc.ior.ok_or_else(|| missing("ior"))? })
+        }
     }
 }
 
@@ -104,7 +126,9 @@ fn object_mesh(object: &ObjectDesc, map: &SourceMap) -> Result<TriangleMesh, Sce
             TriangleMesh::icosphere(subdivisions)
         }
         ShapeKind::Obj => {
-            let file = object.file.as_ref().ok_or_else(|| map.error(Some(object.shape.span()), "shape = \"obj\" needs file = \"...\""))?;
+            let file = object.file.as_ref().ok_or_else(|| {
+                map.error(Some(object.shape.span()), "shape = \"obj\" needs file = \"...\"")
+            })?;
             load_obj_relative(file.get_ref(), file.span(), map)?
         }
     })
@@ -113,7 +137,8 @@ fn object_mesh(object: &ObjectDesc, map: &SourceMap) -> Result<TriangleMesh, Sce
 /// Loads an OBJ file named relative to the scene file, and checks it has finite triangles.
 fn load_obj_relative(name: &str, span: Range<usize>, map: &SourceMap) -> Result<TriangleMesh, SceneError> {
     let path = map.path.parent().unwrap_or(Path::new("")).join(name);
-    let mesh = TriangleMesh::load_obj(&path).map_err(|e| map.error(Some(span.clone()), format!("cannot load mesh {}: {e}", path.display())))?;
+    let mesh = TriangleMesh::load_obj(&path)
+        .map_err(|e| map.error(Some(span.clone()), format!("cannot load mesh {}: {e}", path.display())))?;
     if mesh.indices.is_empty() {
         return Err(map.error(Some(span), format!("mesh {} has no triangles", path.display())));
     }

@@ -27,10 +27,7 @@ pub struct SurfaceHit<'a> {
 impl<'a> World<'a> {
     /// Builds the BVH over the scene's triangles with `method`.
     pub fn new(scene: &'a Scene, method: SplitMethod) -> Self {
-        Self {
-            scene,
-            bvh: Bvh::build(&scene.triangles, method),
-        }
+        Self { scene, bvh: Bvh::build(&scene.triangles, method) }
     }
 
     /// The scene.

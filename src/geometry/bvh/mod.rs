@@ -52,18 +52,12 @@ pub enum NodeView {
 impl Node {
     /// A leaf over `count` triangles starting at `first`.
     pub fn leaf(bounds: Aabb, first: u32, count: u32) -> Self {
-        Self {
-            bounds,
-            kind: NodeView::Leaf { first, count },
-        }
+        Self { bounds, kind: NodeView::Leaf { first, count } }
     }
 
     /// An interior node split along `axis` whose second child is at index `second_child`.
     pub fn interior(bounds: Aabb, axis: u8, second_child: u32) -> Self {
-        Self {
-            bounds,
-            kind: NodeView::Interior { axis, second_child },
-        }
+        Self { bounds, kind: NodeView::Interior { axis, second_child } }
     }
 
     /// The box around everything below this node.
@@ -103,11 +97,7 @@ impl Bvh {
         let mut prims: Vec<PrimRef> = triangles
             .iter()
             .enumerate()
-            .map(|(i, t)| PrimRef {
-                index: i as u32,
-                bounds: t.bounds(),
-                centroid: t.centroid(),
-            })
+            .map(|(i, t)| PrimRef { index: i as u32, bounds: t.bounds(), centroid: t.centroid() })
             .collect();
         let mut nodes = Vec::with_capacity(2 * prims.len());
         if !prims.is_empty() {

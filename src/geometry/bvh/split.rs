@@ -73,7 +73,8 @@ mod checkpoint4 {
     use crate::test_fixtures::{awkward_meshes, random_mesh};
 
     fn prims_at(centroids: &[Vec3]) -> Vec<PrimRef> {
-        let prim = |(i, &c): (usize, &Vec3)| PrimRef { index: i as u32, bounds: Aabb::from_point(c), centroid: c };
+        let prim =
+            |(i, &c): (usize, &Vec3)| PrimRef { index: i as u32, bounds: Aabb::from_point(c), centroid: c };
         centroids.iter().enumerate().map(prim).collect()
     }
 
@@ -87,7 +88,8 @@ mod checkpoint4 {
     fn the_split_halves_along_the_widest_centroid_axis() {
         // Centroids spread 10 along z, 1 along x: the split is along z, at the median z.
         let zs = [5.0, -3.0, 9.0, 0.0, 7.0, 1.0];
-        let centroids: Vec<Vec3> = zs.iter().enumerate().map(|(i, &z)| Vec3::new(i as f32 * 0.2, 0.0, z)).collect();
+        let centroids: Vec<Vec3> =
+            zs.iter().enumerate().map(|(i, &z)| Vec3::new(i as f32 * 0.2, 0.0, z)).collect();
         let mut prims = prims_at(&centroids);
         let split = object_median_split(&mut prims);
         assert_eq!(split, Split { axis: 2, mid: 3 });
@@ -98,7 +100,8 @@ mod checkpoint4 {
     #[test]
     fn the_axis_is_chosen_from_centroids_not_from_triangle_bounds() {
         // Long triangles along x, centroids spread along y: the split must be along y.
-        let mut prims = prims_at(&[Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
+        let mut prims =
+            prims_at(&[Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
         for p in &mut prims {
             p.bounds = Aabb::new(p.centroid - Vec3::X * 50.0, p.centroid + Vec3::X * 50.0);
         }

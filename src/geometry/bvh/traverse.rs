@@ -147,7 +147,9 @@ mod checkpoint4 {
                         assert_eq!(other.map(|h| h.t), Some(hit.t), "{ray:?}");
                     }
                 }
-                (got, want) => panic!("{} triangles, {ray:?}: bvh {got:?}, brute force {want:?}", triangles.len()),
+                (got, want) => {
+                    panic!("{} triangles, {ray:?}: bvh {got:?}, brute force {want:?}", triangles.len())
+                }
             }
         }
     }
