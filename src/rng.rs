@@ -63,12 +63,13 @@ mod tests {
     }
 
     #[test]
-    fn neighbouring_pixels_draw_different_numbers() {
-        let a: Vec<u32> = (0..8).map(|_| Rng::for_pixel(1, 10).next_u32()).collect();
-        let mut p10 = Rng::for_pixel(1, 10);
-        let mut p11 = Rng::for_pixel(1, 11);
-        assert_eq!(a[0], Rng::for_pixel(1, 10).next_u32(), "same seed and pixel, same numbers");
-        let same = (0..64).filter(|_| p10.next_u32() == p11.next_u32()).count();
-        assert_eq!(same, 0);
+    fn the_same_pixel_repeats_and_neighbouring_pixels_differ() {
+        let draw = |pixel| {
+            let mut rng = Rng::for_pixel(1, pixel);
+            (0..64).map(|_| rng.next_u32()).collect::<Vec<_>>()
+        };
+        assert_eq!(draw(10), draw(10));
+        let same = draw(10).iter().zip(draw(11)).filter(|(a, b)| **a == *b).count();
+        assert_eq!(same, 0, "streams of neighbouring pixels must not coincide");
     }
 }
