@@ -27,6 +27,7 @@
 pub mod camera;
 pub mod film;
 pub mod geometry;
+pub mod grade;
 pub mod image_io;
 pub mod integrator;
 pub mod light;
