@@ -5,7 +5,7 @@
 //! Files are written to a temporary name beside the target and renamed into place, so a failed
 //! or interrupted write never leaves half an image over a good one.
 
-use std::io::BufWriter;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use image::{ImageEncoder, RgbImage};
@@ -71,25 +71,32 @@ pub fn image_to_film(image: &RgbImage) -> Film {
     Film::from_pixels(image.width(), image.height(), pixels)
 }
 
-/// Writes `image` as a PNG at `path`, atomically: to a temporary file beside it, then renamed.
+/// Writes `image` as a PNG at `path`, atomically (see [`write_file_atomic`]).
 pub fn write_png(path: &Path, image: &RgbImage) -> Result<(), ImageError> {
-    let fail = |message: String| ImageError::Write { path: path.to_path_buf(), message };
-    let name = path.file_name().ok_or_else(|| fail("not a file name".into()))?;
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut bytes)
+        .write_image(image.as_raw(), image.width(), image.height(), image::ExtendedColorType::Rgb8)
+        .map_err(|e| ImageError::Write { path: path.to_path_buf(), message: e.to_string() })?;
+    write_file_atomic(path, &bytes)
+        .map_err(|e| ImageError::Write { path: path.to_path_buf(), message: e.to_string() })
+}
+
+/// Writes `bytes` to a hidden temporary file beside `path`, syncs it, and renames it over `path`:
+/// readers see the old file or the new one, never half of one. The temporary file is removed if
+/// anything fails.
+pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path.file_name().ok_or_else(|| std::io::Error::other("not a file name"))?;
     let temporary = path.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    let result = (|| -> Result<(), String> {
-        let file = std::fs::File::create(&temporary).map_err(|e| e.to_string())?;
-        let mut out = BufWriter::new(file);
-        image::codecs::png::PngEncoder::new(&mut out)
-            .write_image(image.as_raw(), image.width(), image.height(), image::ExtendedColorType::Rgb8)
-            .map_err(|e| e.to_string())?;
-        let file = out.into_inner().map_err(|e| e.to_string())?;
-        file.sync_all().map_err(|e| e.to_string())?;
-        std::fs::rename(&temporary, path).map_err(|e| e.to_string())
+    let result = (|| {
+        let mut file = std::fs::File::create(&temporary)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        std::fs::rename(&temporary, path)
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&temporary);
     }
-    result.map_err(fail)
+    result
 }
 
 /// Reads a PNG (any bit depth or colour type) as 8-bit RGB.

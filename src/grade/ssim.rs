@@ -85,6 +85,20 @@ impl SsimMap {
         (count > 0).then(|| sum / count as f64)
     }
 
+    /// The lowest mean over `tile × tile` squares (aligned to the top left, interior pixels only).
+    pub fn worst_tile(&self, tile: usize) -> f64 {
+        let tiles_x = self.width.div_ceil(tile);
+        let mut sums = vec![(0.0, 0usize); tiles_x * self.height.div_ceil(tile)];
+        for y in RADIUS..self.height - RADIUS {
+            for x in RADIUS..self.width - RADIUS {
+                let t = &mut sums[(y / tile) * tiles_x + x / tile];
+                t.0 += self.values[y * self.width + x];
+                t.1 += 1;
+            }
+        }
+        sums.iter().filter(|t| t.1 > 0).map(|t| t.0 / t.1 as f64).fold(1.0, f64::min)
+    }
+
     /// The SSIM at pixel `(x, y)`.
     pub fn at(&self, x: usize, y: usize) -> f64 {
         self.values[y * self.width + x]

@@ -60,10 +60,11 @@ impl Scene {
             },
             triangles: Vec::new(),
             triangle_materials: Vec::new(),
+            triangle_objects: Vec::new(),
             materials,
             lights,
         };
-        for object in &desc.objects {
+        for (index, object) in desc.objects.iter().enumerate() {
             let material = *names.get(object.material.get_ref().as_str()).ok_or_else(|| {
                 let known: Vec<&str> = names.keys().copied().collect();
                 let message = format!(
@@ -78,6 +79,7 @@ impl Scene {
             let placed = mesh.transformed(&m);
             scene.triangles.extend(placed.triangles());
             scene.triangle_materials.resize(scene.triangles.len(), material);
+            scene.triangle_objects.resize(scene.triangles.len(), index as u32);
         }
         Ok(scene)
     }

@@ -42,6 +42,8 @@ pub struct Scene {
     pub triangles: Vec<Triangle>,
     /// `triangle_materials[i]` indexes `materials` for `triangles[i]`.
     pub triangle_materials: Vec<u32>,
+    /// `triangle_objects[i]` is the index of the `[[objects]]` entry `triangles[i]` came from.
+    pub triangle_objects: Vec<u32>,
     /// The materials, in name order.
     pub materials: Vec<Material>,
     /// The point lights.

@@ -22,6 +22,8 @@ pub struct SurfaceHit<'a> {
     pub normal: Vec3,
     /// The surface's material.
     pub material: &'a Material,
+    /// Index of the scene object hit (its `[[objects]]` entry).
+    pub object: u32,
 }
 
 impl<'a> World<'a> {
@@ -50,6 +52,7 @@ impl<'a> World<'a> {
             p: triangle.point(hit.hit.b1, hit.hit.b2),
             normal: triangle.normal(),
             material: &self.scene.materials[material as usize],
+            object: self.scene.triangle_objects[hit.prim as usize],
         })
     }
 
