@@ -57,6 +57,12 @@ struct GradeArgs {
     /// The repository to grade (rubric, scenes, references, tests).
     #[arg(long, default_value = ".")]
     root: PathBuf,
+    /// Render with this seed instead of the rubric's (for calibration).
+    #[arg(long, hide = true)]
+    seed: Option<u64>,
+    /// Write every check's value as JSON here (for calibration).
+    #[arg(long, hide = true, value_name = "FILE")]
+    values: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -80,6 +86,18 @@ enum Commands {
         #[arg(long, default_value = ".")]
         root: PathBuf,
     },
+    /// Grade every variant of checkpoints/variants.toml and write the calibration table.
+    Calibrate {
+        /// The repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+        /// Where to write the table (Markdown).
+        #[arg(long, default_value = "docs/CALIBRATION.md")]
+        table: PathBuf,
+        /// Exit 1 unless every correct variant passes and every mistake fails its scenes.
+        #[arg(long)]
+        check: bool,
+    },
     /// Render one graded scene in this process (the grader runs itself like this per scene).
     #[command(hide = true)]
     RenderChild {
@@ -88,6 +106,8 @@ enum Commands {
         scene: String,
         #[arg(long)]
         output: PathBuf,
+        #[arg(long)]
+        seed: Option<u64>,
     },
 }
 
@@ -96,7 +116,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Some(Commands::Compare { a, b, json, heatmap }) => compare(&a, &b, json, heatmap.as_deref()),
         Some(Commands::UpdateReferences { root }) => update(&root),
-        Some(Commands::RenderChild { root, scene, output }) => render_child(&root, &scene, &output),
+        Some(Commands::Calibrate { root, table, check }) => calibrate(&root, &table, check),
+        Some(Commands::RenderChild { root, scene, output, seed }) => render_child(&root, &scene, &output, seed),
         None => run_grade(cli.grade),
     };
     match result {
@@ -128,6 +149,7 @@ fn run_grade(args: GradeArgs) -> Result<ExitCode, String> {
         checkpoints: args.checkpoint.map(|c| vec![c]),
         scenes,
         run_tests: !args.skip_tests,
+        seed: args.seed,
     };
     let progress = progress_bar(0);
     let graded = grade(&options, &progress);
@@ -138,6 +160,9 @@ fn run_grade(args: GradeArgs) -> Result<ExitCode, String> {
         let text =
             serde_json::to_string_pretty(&report::gradescope_json(&report)).map_err(|e| e.to_string())?;
         write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    if let Some(path) = &args.values {
+        write_file_atomic(path, report.values().to_string().as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     if let Some(dir) = &args.out {
         report::write_images(&report, dir)?;
@@ -189,8 +214,29 @@ fn update(root: &Path) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
+fn calibrate(root: &Path, table: &Path, check: bool) -> Result<ExitCode, String> {
+    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let progress = progress_bar(0);
+    let runs = raylab::grade::calibrate::run_all(root, &progress);
+    progress.finish_and_clear();
+    let runs = runs?;
+    let text = raylab::grade::calibrate::markdown(&runs, &rubric);
+    let header = "# Calibration\n\nWritten by `cargo run --release --bin grader -- calibrate`: every variant of \
+        `checkpoints/variants.toml` graded against the references. ✗ marks a failed check.\n\n";
+    if let Some(dir) = table.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    write_file_atomic(table, format!("{header}{text}").as_bytes()).map_err(|e| format!("{}: {e}", table.display()))?;
+    println!("{text}");
+    let problems = raylab::grade::calibrate::verdicts(&runs);
+    for p in &problems {
+        println!("calibration: {p}");
+    }
+    Ok(if check && !problems.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
 /// Renders one graded scene at its graded spp. A panic is reported on one line the parent reads.
-fn render_child(root: &Path, name: &str, output: &Path) -> Result<ExitCode, String> {
+fn render_child(root: &Path, name: &str, output: &Path, seed: Option<u64>) -> Result<ExitCode, String> {
     std::panic::set_hook(Box::new(|info| {
         let message = info
             .payload()
@@ -202,9 +248,10 @@ fn render_child(root: &Path, name: &str, output: &Path) -> Result<ExitCode, Stri
         eprintln!("{PANIC_PREFIX}{}{location}", message.replace('\n', " "));
     }));
     let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
-    let scene =
-        rubric.scenes.iter().find(|s| s.name == name).ok_or_else(|| format!("{name}: not a graded scene"))?;
-    let (_, film) = render_scene(root, scene, scene.spp)?;
+    let mut scene =
+        rubric.scenes.iter().find(|s| s.name == name).ok_or_else(|| format!("{name}: not a graded scene"))?.clone();
+    scene.seed = seed.unwrap_or(scene.seed);
+    let (_, film) = render_scene(root, &scene, scene.spp)?;
     write_png(output, &film_to_image(&film)).map_err(|e| e.to_string())?;
     Ok(ExitCode::SUCCESS)
 }

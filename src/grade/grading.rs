@@ -49,6 +49,8 @@ pub struct GradeOptions {
     pub scenes: Option<Vec<String>>,
     /// Run the unit tests (`cargo test`), or grade images only.
     pub run_tests: bool,
+    /// Render with this seed instead of the rubric's (calibration tries several).
+    pub seed: Option<u64>,
 }
 
 /// The outcome of one graded scene.
@@ -131,6 +133,19 @@ impl GradeReport {
     /// Whether every check and test passed.
     pub fn all_passed(&self) -> bool {
         (self.score() - self.max_score()).abs() < 1e-9
+    }
+}
+
+impl GradeReport {
+    /// Every scene's check values and verdicts, for calibration: `{scene: {error, checks: {label:
+    /// {value, passed}}}}`.
+    pub fn values(&self) -> serde_json::Value {
+        let scenes = self.scenes.iter().map(|s| {
+            let checks = s.checks.iter().map(|(c, m)| (c.label(), serde_json::json!({"value": m.value, "passed": m.passed})));
+            let checks: serde_json::Map<String, serde_json::Value> = checks.collect();
+            (s.scene.name.clone(), serde_json::json!({"error": s.error, "passed": s.passed(), "checks": checks}))
+        });
+        serde_json::Value::Object(scenes.collect())
     }
 }
 
@@ -231,6 +246,9 @@ fn grade_scene(options: &GradeOptions, scene: GradedScene, limit: Duration) -> R
     let out = std::env::temp_dir().join(format!("raylab-grader-{}-{}.png", std::process::id(), scene.name));
     let mut command = Command::new(&options.exe);
     command.arg("render-child").arg("--root").arg(&options.root).arg(&scene.name).arg("--output").arg(&out);
+    if let Some(seed) = options.seed {
+        command.arg("--seed").arg(seed.to_string());
+    }
     let run =
         run_with_limit(command, limit).map_err(|e| format!("cannot start {}: {e}", options.exe.display()))?;
     let rendered = if run.success() {

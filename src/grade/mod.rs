@@ -4,6 +4,7 @@
 //! [`rubric`] says what is graded, [`reference`] keeps the reference images, [`features`] the masks
 //! made with them, [`ssim`] and [`metrics`] score a render.
 
+pub mod calibrate;
 pub mod child;
 pub mod features;
 pub mod grading;
@@ -15,3 +16,4 @@ pub mod report;
 pub mod rubric;
 pub mod ssim;
 pub mod unit_tests;
+pub mod variants;
