@@ -117,7 +117,9 @@ fn main() -> ExitCode {
         Some(Commands::Compare { a, b, json, heatmap }) => compare(&a, &b, json, heatmap.as_deref()),
         Some(Commands::UpdateReferences { root }) => update(&root),
         Some(Commands::Calibrate { root, table, check }) => calibrate(&root, &table, check),
-        Some(Commands::RenderChild { root, scene, output, seed }) => render_child(&root, &scene, &output, seed),
+        Some(Commands::RenderChild { root, scene, output, seed }) => {
+            render_child(&root, &scene, &output, seed)
+        }
         None => run_grade(cli.grade),
     };
     match result {
@@ -162,7 +164,8 @@ fn run_grade(args: GradeArgs) -> Result<ExitCode, String> {
         write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     if let Some(path) = &args.values {
-        write_file_atomic(path, report.values().to_string().as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+        write_file_atomic(path, report.values().to_string().as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
     }
     if let Some(dir) = &args.out {
         report::write_images(&report, dir)?;
@@ -221,12 +224,14 @@ fn calibrate(root: &Path, table: &Path, check: bool) -> Result<ExitCode, String>
     progress.finish_and_clear();
     let runs = runs?;
     let text = raylab::grade::calibrate::markdown(&runs, &rubric);
-    let header = "# Calibration\n\nWritten by `cargo run --release --bin grader -- calibrate`: every variant of \
+    let header =
+        "# Calibration\n\nWritten by `cargo run --release --bin grader -- calibrate`: every variant of \
         `checkpoints/variants.toml` graded against the references. ✗ marks a failed check.\n\n";
     if let Some(dir) = table.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    write_file_atomic(table, format!("{header}{text}").as_bytes()).map_err(|e| format!("{}: {e}", table.display()))?;
+    write_file_atomic(table, format!("{header}{text}").as_bytes())
+        .map_err(|e| format!("{}: {e}", table.display()))?;
     println!("{text}");
     let problems = raylab::grade::calibrate::verdicts(&runs);
     for p in &problems {
@@ -248,8 +253,12 @@ fn render_child(root: &Path, name: &str, output: &Path, seed: Option<u64>) -> Re
         eprintln!("{PANIC_PREFIX}{}{location}", message.replace('\n', " "));
     }));
     let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
-    let mut scene =
-        rubric.scenes.iter().find(|s| s.name == name).ok_or_else(|| format!("{name}: not a graded scene"))?.clone();
+    let mut scene = rubric
+        .scenes
+        .iter()
+        .find(|s| s.name == name)
+        .ok_or_else(|| format!("{name}: not a graded scene"))?
+        .clone();
     scene.seed = seed.unwrap_or(scene.seed);
     let (_, film) = render_scene(root, &scene, scene.spp)?;
     write_png(output, &film_to_image(&film)).map_err(|e| e.to_string())?;

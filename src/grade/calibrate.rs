@@ -33,6 +33,8 @@ pub struct Run {
 /// Builds and grades every variant; `progress` counts runs.
 pub fn run_all(root: &Path, progress: &ProgressBar) -> Result<Vec<Run>, String> {
     let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
+    // Absolute: cargo runs inside the scratch tree, where a relative path would mean another place.
+    let root = std::path::absolute(root).map_err(|e| format!("{}: {e}", root.display()))?;
     let work = root.join("target/variants");
     let (tree, target) = (work.join("tree"), work.join("target"));
     let count: usize = variants.iter().map(|v| v.seeds.len().max(1)).sum();
@@ -40,10 +42,13 @@ pub fn run_all(root: &Path, progress: &ProgressBar) -> Result<Vec<Run>, String> 
     let mut runs = Vec::new();
     for variant in variants {
         progress.set_message(format!("building {}", variant.name));
-        make_scratch_tree(root, &tree, &variant)?;
+        make_scratch_tree(&root, &tree, &variant)?;
         let built = build(&tree, &target);
-        let seeds: Vec<Option<u64>> =
-            if variant.seeds.is_empty() { vec![None] } else { variant.seeds.iter().copied().map(Some).collect() };
+        let seeds: Vec<Option<u64>> = if variant.seeds.is_empty() {
+            vec![None]
+        } else {
+            variant.seeds.iter().copied().map(Some).collect()
+        };
         for seed in seeds {
             progress.set_message(format!("grading {}", variant.name));
             let values = built.clone().and_then(|exe| grade_images(&exe, &tree, seed, &work));
@@ -56,8 +61,15 @@ pub fn run_all(root: &Path, progress: &ProgressBar) -> Result<Vec<Run>, String> 
 
 fn build(tree: &Path, target: &Path) -> Result<PathBuf, String> {
     let mut command = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
-    command.current_dir(tree).env("CARGO_TARGET_DIR", target).args(["build", "--release", "--quiet", "--bin", "grader"]);
-    let run = run_with_limit(command, Duration::from_secs(900)).map_err(|e| format!("cannot run cargo: {e}"))?;
+    command.current_dir(tree).env("CARGO_TARGET_DIR", target).args([
+        "build",
+        "--release",
+        "--quiet",
+        "--bin",
+        "grader",
+    ]);
+    let run =
+        run_with_limit(command, Duration::from_secs(900)).map_err(|e| format!("cannot run cargo: {e}"))?;
     if !run.success() {
         let error = run.stderr.lines().find(|l| l.starts_with("error")).unwrap_or("build failed");
         return Err(format!("does not build: {error}"));
@@ -72,12 +84,9 @@ fn grade_images(exe: &Path, tree: &Path, seed: Option<u64>, work: &Path) -> Resu
     if let Some(seed) = seed {
         command.arg("--seed").arg(seed.to_string());
     }
-    // The grader itself sets the child marker for its renders; calibration's children are graders.
-    command.env_remove(super::child::CHILD_ENV);
     let run = run_with_limit(command, Duration::from_secs(600)).map_err(|e| e.to_string())?;
-    let text = std::fs::read_to_string(&values).map_err(|_| {
-        format!("grading failed: {}", run.stderr.lines().last().unwrap_or("no output"))
-    })?;
+    let text = std::fs::read_to_string(&values)
+        .map_err(|_| format!("grading failed: {}", run.stderr.lines().last().unwrap_or("no output")))?;
     let _ = std::fs::remove_file(&values);
     serde_json::from_str(&text).map_err(|e| e.to_string())
 }
@@ -112,7 +121,10 @@ fn failing_checks(scene: &Value) -> String {
     }
     let checks = scene["checks"].as_object().into_iter().flatten();
     let failing = checks.filter(|(_, c)| c["passed"] == Value::Bool(false));
-    failing.map(|(l, c)| format!("{l} = {:.4}", c["value"].as_f64().unwrap_or(f64::NAN))).collect::<Vec<_>>().join(", ")
+    failing
+        .map(|(l, c)| format!("{l} = {:.4}", c["value"].as_f64().unwrap_or(f64::NAN)))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn run_label(run: &Run) -> String {
@@ -128,7 +140,8 @@ pub fn markdown(runs: &[Run], rubric: &Rubric) -> String {
     let mut out = String::new();
     for scene in &rubric.scenes {
         let labels: Vec<String> = scene.checks.iter().map(|c| c.label()).collect();
-        let _ = writeln!(out, "### {} (grades checkpoints {:?}, {} spp)\n", scene.name, scene.grades, scene.spp);
+        let _ =
+            writeln!(out, "### {} (grades checkpoints {:?}, {} spp)\n", scene.name, scene.grades, scene.spp);
         let _ = writeln!(out, "| variant | kind | {} |", labels.join(" | "));
         let _ = writeln!(out, "|---|---|{}", "---|".repeat(labels.len()));
         let mut extremes: BTreeMap<(usize, bool), Vec<f64>> = BTreeMap::new();
@@ -139,7 +152,13 @@ pub fn markdown(runs: &[Run], rubric: &Rubric) -> String {
                 continue;
             }
             let must_fail = !run.variant.correct && run.variant.fails.contains(&scene.name);
-            let kind = if run.variant.correct { "correct" } else if must_fail { "must fail" } else { "(other scene)" };
+            let kind = if run.variant.correct {
+                "correct"
+            } else if must_fail {
+                "must fail"
+            } else {
+                "(other scene)"
+            };
             let cells: Vec<String> = labels
                 .iter()
                 .enumerate()
@@ -149,19 +168,29 @@ pub fn markdown(runs: &[Run], rubric: &Rubric) -> String {
                         extremes.entry((i, run.variant.correct)).or_default().push(x);
                     }
                     let mark = if v["checks"][l]["passed"] == Value::Bool(true) { "" } else { " ✗" };
-                    value.map_or_else(|| v["error"].as_str().unwrap_or("-").to_string(), |x| format!("{x:.4}{mark}"))
+                    value.map_or_else(
+                        || v["error"].as_str().unwrap_or("-").to_string(),
+                        |x| format!("{x:.4}{mark}"),
+                    )
                 })
                 .collect();
             let _ = writeln!(out, "| {} | {kind} | {} |", run_label(run), cells.join(" | "));
         }
         let summary = |correct: bool| -> Vec<String> {
-            scene.checks.iter().enumerate().map(|(i, c)| {
-                let xs = extremes.get(&(i, correct)).cloned().unwrap_or_default();
-                let lower_is_better = c.max.is_some();
-                // For a similarity the worst correct is the lowest and the best wrong the highest.
-                let pick = |xs: &[f64], low: bool| xs.iter().copied().reduce(if low { f64::min } else { f64::max });
-                pick(&xs, correct != lower_is_better).map_or("-".into(), |x| format!("{x:.4}"))
-            }).collect()
+            scene
+                .checks
+                .iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    let xs = extremes.get(&(i, correct)).cloned().unwrap_or_default();
+                    let lower_is_better = c.max.is_some();
+                    // For a similarity the worst correct is the lowest and the best wrong the highest.
+                    let pick = |xs: &[f64], low: bool| {
+                        xs.iter().copied().reduce(if low { f64::min } else { f64::max })
+                    };
+                    pick(&xs, correct != lower_is_better).map_or("-".into(), |x| format!("{x:.4}"))
+                })
+                .collect()
         };
         let _ = writeln!(out, "| **worst correct** | | {} |", summary(true).join(" | "));
         let _ = writeln!(out, "| **best wrong** | | {} |", summary(false).join(" | "));

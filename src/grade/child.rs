@@ -54,7 +54,8 @@ impl ChildRun {
     }
 }
 
-/// Runs `command` (with [`CHILD_ENV`] set) for at most `limit`, killing it when the time is up.
+/// Runs `command` for at most `limit`, killing it when the time is up. Callers mark grader
+/// children with [`CHILD_ENV`].
 /// Output goes through temporary files, so a child printing a lot never blocks on a full pipe.
 pub fn run_with_limit(mut command: Command, limit: Duration) -> std::io::Result<ChildRun> {
     static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
@@ -62,7 +63,6 @@ pub fn run_with_limit(mut command: Command, limit: Duration) -> std::io::Result<
     let base: PathBuf = std::env::temp_dir().join(format!("raylab-grader-{}-{n}", std::process::id()));
     let (out_path, err_path) = (base.with_extension("out"), base.with_extension("err"));
     command
-        .env(CHILD_ENV, "1")
         .stdin(Stdio::null())
         .stdout(std::fs::File::create(&out_path)?)
         .stderr(std::fs::File::create(&err_path)?);

@@ -141,9 +141,15 @@ impl GradeReport {
     /// {value, passed}}}}`.
     pub fn values(&self) -> serde_json::Value {
         let scenes = self.scenes.iter().map(|s| {
-            let checks = s.checks.iter().map(|(c, m)| (c.label(), serde_json::json!({"value": m.value, "passed": m.passed})));
+            let checks = s
+                .checks
+                .iter()
+                .map(|(c, m)| (c.label(), serde_json::json!({"value": m.value, "passed": m.passed})));
             let checks: serde_json::Map<String, serde_json::Value> = checks.collect();
-            (s.scene.name.clone(), serde_json::json!({"error": s.error, "passed": s.passed(), "checks": checks}))
+            (
+                s.scene.name.clone(),
+                serde_json::json!({"error": s.error, "passed": s.passed(), "checks": checks}),
+            )
         });
         serde_json::Value::Object(scenes.collect())
     }
@@ -167,6 +173,7 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     let manifest = Manifest::load(root)?;
     for scene in &scenes {
         manifest.fresh_entry(root, scene)?;
+        load_reference(root, scene)?;
     }
 
     progress.set_length((scenes.len() + if options.run_tests { checkpoints.len() + 1 } else { 0 }) as u64);
@@ -245,7 +252,14 @@ fn grade_scene(options: &GradeOptions, scene: GradedScene, limit: Duration) -> R
     let (reference, masks) = load_reference(&options.root, &scene)?;
     let out = std::env::temp_dir().join(format!("raylab-grader-{}-{}.png", std::process::id(), scene.name));
     let mut command = Command::new(&options.exe);
-    command.arg("render-child").arg("--root").arg(&options.root).arg(&scene.name).arg("--output").arg(&out);
+    command
+        .env(CHILD_ENV, "1")
+        .arg("render-child")
+        .arg("--root")
+        .arg(&options.root)
+        .arg(&scene.name)
+        .arg("--output")
+        .arg(&out);
     if let Some(seed) = options.seed {
         command.arg("--seed").arg(seed.to_string());
     }

@@ -9,6 +9,7 @@ use image::RgbImage;
 
 use super::grading::{GradeReport, SceneResult};
 use super::heatmap::heatmap;
+use super::report::hint_text;
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background:#fafafa;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\
@@ -27,20 +28,20 @@ pub fn page(report: &GradeReport) -> String {
     for c in &report.checkpoints {
         let tests =
             c.tests.as_ref().map_or("-".to_string(), |t| format!("{}/{}", t.passed, t.passed + t.failed));
+        let images = if c.checkpoint.image_points > 0.0 {
+            format!("{:.1}/{:.0}", c.image_score, c.checkpoint.image_points)
+        } else {
+            "-".to_string()
+        };
         let class = if c.reasons.is_empty() { "pass" } else { "fail" };
         let reasons: Vec<String> = c.reasons.iter().map(|r| escape(r)).collect();
         let hint = if c.reasons.is_empty() {
             String::new()
         } else {
-            format!(
-                "<p class=\"hint\">{} <a href=\"../{}\">{}</a></p>",
-                escape(&c.checkpoint.hint),
-                escape(&c.checkpoint.handout.display().to_string()),
-                escape(&c.checkpoint.handout.display().to_string())
-            )
+            format!("<p class=\"hint\">{}</p>", escape(&hint_text(&c.checkpoint)))
         };
-        let _ = writeln!(h, "<tr><td>{}</td><td>{}</td><td>{tests}</td><td>{:.1}/{:.0}</td><td class=\"{class}\">{:.1}/{:.0}</td><td>{}{hint}</td></tr>",
-            c.checkpoint.id, escape(&c.checkpoint.title), c.image_score, c.checkpoint.image_points, c.score(), c.max_score(report.tests_ran), reasons.join("<br>"));
+        let _ = writeln!(h, "<tr><td>{}</td><td>{}</td><td>{tests}</td><td>{images}</td><td class=\"{class}\">{:.1}/{:.0}</td><td>{}{hint}</td></tr>",
+            c.checkpoint.id, escape(&c.checkpoint.title), c.score(), c.max_score(report.tests_ran), reasons.join("<br>"));
     }
     h.push_str("</table>\n");
     for s in &report.scenes {
@@ -85,11 +86,9 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
     {
         let _ = writeln!(
             h,
-            "<p class=\"hint\">Checkpoint {}: {} <a href=\"../{}\">{}</a></p>",
+            "<p class=\"hint\">Checkpoint {}: {}</p>",
             c.checkpoint.id,
-            escape(&c.checkpoint.hint),
-            escape(&c.checkpoint.handout.display().to_string()),
-            escape(&c.checkpoint.handout.display().to_string())
+            escape(&hint_text(&c.checkpoint))
         );
     }
     h.push_str("</section>\n");

@@ -162,9 +162,25 @@ pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -
     Ok(manifest)
 }
 
-/// The reference image and masks of a scene.
+/// The reference image and masks of a scene, checked to be of the scene's film size.
 pub fn load_reference(root: &Path, scene: &GradedScene) -> Result<(image::RgbImage, Masks), String> {
     let image = read_png(&image_path(root, scene)).map_err(|e| e.to_string())?;
-    let masks = Masks::from_image(read_png(&masks_path(root, scene)).map_err(|e| e.to_string())?);
-    Ok((image, masks))
+    let masks = read_png(&masks_path(root, scene)).map_err(|e| e.to_string())?;
+    let camera = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?.camera;
+    let film = (camera.width(), camera.height());
+    for (path, size) in
+        [(image_path(root, scene), image.dimensions()), (masks_path(root, scene), masks.dimensions())]
+    {
+        if size != film {
+            return Err(format!(
+                "{}: the image is {}x{} but the scene renders {}x{}; run `grader update-references`",
+                path.display(),
+                size.0,
+                size.1,
+                film.0,
+                film.1
+            ));
+        }
+    }
+    Ok((image, Masks::from_image(masks)))
 }

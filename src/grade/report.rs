@@ -7,6 +7,7 @@ use serde_json::json;
 
 use super::grading::GradeReport;
 use super::heatmap::heatmap;
+use super::rubric::Checkpoint;
 use crate::image_io::write_png;
 
 /// The table a person reads: per scene, every check; then per checkpoint, the points and why
@@ -66,8 +67,7 @@ pub fn text(report: &GradeReport) -> String {
             let _ = writeln!(out, "      - {reason}");
         }
         if !c.reasons.is_empty() {
-            let _ =
-                writeln!(out, "      hint: {} (see {})", c.checkpoint.hint, c.checkpoint.handout.display());
+            let _ = writeln!(out, "      hint: {}", hint_text(&c.checkpoint));
         }
     }
     let _ = writeln!(
@@ -91,12 +91,7 @@ pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
         let output = if c.reasons.is_empty() {
             "All checks passed.".to_string()
         } else {
-            format!(
-                "{}\nHint: {} (see {})",
-                c.reasons.join("\n"),
-                c.checkpoint.hint,
-                c.checkpoint.handout.display()
-            )
+            format!("{}\nHint: {}", c.reasons.join("\n"), hint_text(&c.checkpoint))
         };
         let mut part = |number: &str, name: String, score: f64, max: f64| {
             let status = if (score - max).abs() < 1e-9 { "passed" } else { "failed" };
@@ -128,6 +123,15 @@ pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
         "output": text(report),
         "tests": tests,
     })
+}
+
+/// The checkpoint's hint and where to read more: its handout's list of mistakes and symptoms.
+pub fn hint_text(checkpoint: &Checkpoint) -> String {
+    format!(
+        "{} Read {}, section \"Symptoms of common mistakes\".",
+        checkpoint.hint,
+        checkpoint.handout.display()
+    )
 }
 
 fn round2(x: f64) -> f64 {

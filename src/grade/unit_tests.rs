@@ -32,7 +32,7 @@ impl TestRun {
 
 fn cargo(root: &Path, args: &[&str]) -> Command {
     let mut command = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
-    command.current_dir(root).args(args);
+    command.current_dir(root).args(args).env(super::child::CHILD_ENV, "1");
     command
 }
 

@@ -38,6 +38,9 @@ pub struct Variant {
     /// Seeds to grade with (correct variants of sampling code are tried with several).
     #[serde(default)]
     pub seeds: Vec<u64>,
+    /// Replace every solution region of the checkpoint with `todo!()`, as the starter does.
+    #[serde(default)]
+    pub stub: bool,
     /// The source patches (none: the solution itself).
     #[serde(default, rename = "patch")]
     pub patches: Vec<Patch>,
@@ -62,7 +65,8 @@ pub struct Patch {
 impl VariantFile {
     /// Loads the variants file.
     pub fn load(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let text =
+            std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
         toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))
     }
 }
@@ -83,6 +87,18 @@ pub fn region_bodies(text: &str, checkpoint: u32) -> Vec<std::ops::Range<usize>>
     regions
 }
 
+/// `text` with the body of every `checkpoint` region replaced by `todo!("checkpoint N")`, indented
+/// as the region's BEGIN line.
+pub fn stub_regions(text: &str, checkpoint: u32) -> String {
+    let mut out = text.to_string();
+    for r in region_bodies(text, checkpoint).into_iter().rev() {
+        let line_start = text[..r.start - 1].rfind('\n').map_or(0, |i| i + 1);
+        let indent: String = text[line_start..].chars().take_while(|c| c.is_whitespace()).collect();
+        out.replace_range(r, &format!("{indent}todo!(\"checkpoint {checkpoint}\")\n"));
+    }
+    out
+}
+
 /// Applies `patch` for `checkpoint` to `text`.
 pub fn apply(text: &str, checkpoint: u32, patch: &Patch) -> Result<String, String> {
     let regions = region_bodies(text, checkpoint);
@@ -94,12 +110,15 @@ pub fn apply(text: &str, checkpoint: u32, patch: &Patch) -> Result<String, Strin
                 return Err(format!("{file}: {find:?} occurs {} times, not once", hits.len()));
             };
             if !regions.iter().any(|r| r.start <= at && at + find.len() <= r.end) {
-                return Err(format!("{file}: {find:?} is not inside a checkpoint {checkpoint} solution region"));
+                return Err(format!(
+                    "{file}: {find:?} is not inside a checkpoint {checkpoint} solution region"
+                ));
             }
             Ok(format!("{}{replace}{}", &text[..at], &text[at + find.len()..]))
         }
         (None, None, Some(k), Some(body)) => {
-            let r = regions.get(k).ok_or_else(|| format!("{file}: no region {k} of checkpoint {checkpoint}"))?;
+            let r =
+                regions.get(k).ok_or_else(|| format!("{file}: no region {k} of checkpoint {checkpoint}"))?;
             Ok(format!("{}{body}{}", &text[..r.start], &text[r.end..]))
         }
         _ => Err(format!("{file}: a patch has either find and replace, or region and body")),
@@ -113,11 +132,32 @@ pub fn make_scratch_tree(root: &Path, dest: &Path, variant: &Variant) -> Result<
         std::fs::remove_dir_all(dest).map_err(|e| format!("{}: {e}", dest.display()))?;
     }
     copy_tree(root, dest).map_err(|e| format!("copying {} to {}: {e}", root.display(), dest.display()))?;
+    if variant.stub {
+        stub_tree(&dest.join("src"), variant.checkpoint)
+            .map_err(|e| format!("stubbing {}: {e}", dest.display()))?;
+    }
     for patch in &variant.patches {
         let path = dest.join(&patch.file);
         let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let patched = apply(&text, variant.checkpoint, patch).map_err(|e| format!("variant {}: {e}", variant.name))?;
+        let patched =
+            apply(&text, variant.checkpoint, patch).map_err(|e| format!("variant {}: {e}", variant.name))?;
         std::fs::write(&path, patched).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+fn stub_tree(dir: &Path, checkpoint: u32) -> std::io::Result<()> {
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.is_dir() {
+            stub_tree(&path, checkpoint)?;
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            let text = std::fs::read_to_string(&path)?;
+            let stubbed = stub_regions(&text, checkpoint);
+            if stubbed != text {
+                std::fs::write(&path, stubbed)?;
+            }
+        }
     }
     Ok(())
 }
@@ -147,7 +187,13 @@ mod tests {
     const TEXT: &str = "fn a() {\n    // BEGIN SOLUTION checkpoint2\n    let x = 1;\n    x + 1\n    // END SOLUTION\n}\nlet x = 1;\n";
 
     fn patch(find: &str, replace: &str) -> Patch {
-        Patch { file: "f.rs".into(), find: Some(find.into()), replace: Some(replace.into()), region: None, body: None }
+        Patch {
+            file: "f.rs".into(),
+            find: Some(find.into()),
+            replace: Some(replace.into()),
+            region: None,
+            body: None,
+        }
     }
 
     #[test]
@@ -156,9 +202,21 @@ mod tests {
         assert!(apply(TEXT, 2, &patch("x + 1", "x + 2")).unwrap().contains("    x + 2\n"));
         assert!(apply(TEXT, 2, &patch("let x = 1;", "")).is_err(), "found twice");
         assert!(apply(TEXT, 3, &patch("x + 1", "x")).is_err(), "not a checkpoint 3 region");
-        let whole = Patch { file: "f.rs".into(), find: None, replace: None, region: Some(0), body: Some("    todo!()\n".into()) };
+        let whole = Patch {
+            file: "f.rs".into(),
+            find: None,
+            replace: None,
+            region: Some(0),
+            body: Some("    todo!()\n".into()),
+        };
         let stubbed = apply(TEXT, 2, &whole).unwrap();
         assert!(stubbed.contains("checkpoint2\n    todo!()\n    // END SOLUTION"), "{stubbed}");
         assert!(!stubbed.contains("x + 1"));
+        let stubbed = stub_regions(TEXT, 2);
+        assert!(
+            stubbed.contains("checkpoint2\n    todo!(\"checkpoint 2\")\n    // END SOLUTION"),
+            "{stubbed}"
+        );
+        assert_eq!(stub_regions(TEXT, 3), TEXT);
     }
 }
