@@ -158,3 +158,28 @@ fn grader_rubric_as_loaded() {
     assert_eq!(rubric.total_points(), 100.0);
     insta::assert_debug_snapshot!(rubric);
 }
+
+#[test]
+fn grader_report_for_the_solution() {
+    let out = grader(&["--all", "--skip-tests", "--root", root().to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // Times vary from run to run; everything else is deterministic.
+    let table = String::from_utf8_lossy(&out.stdout);
+    let is_seconds = |w: &str| w.strip_suffix('s').is_some_and(|n| n.parse::<f64>().is_ok());
+    let stable: Vec<String> = table
+        .lines()
+        .map(|line| {
+            let words: Vec<&str> = line.split(' ').collect();
+            let redacted: Vec<&str> = words
+                .iter()
+                .enumerate()
+                .map(|(i, w)| {
+                    let before_unit = words.get(i + 1) == Some(&"s") && w.parse::<f64>().is_ok();
+                    if is_seconds(w) || before_unit { "<time>" } else { w }
+                })
+                .collect();
+            redacted.join(" ").trim_end().to_string()
+        })
+        .collect();
+    insta::assert_snapshot!(stable.join("\n"));
+}

@@ -14,10 +14,11 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use raylab::grade::child::PANIC_PREFIX;
 use raylab::grade::grading::{grade, GradeOptions};
-use raylab::grade::metrics::TILE;
+use raylab::grade::metrics::{worst_tile_error, TILE};
 use raylab::grade::reference::{render_scene, update_references};
 use raylab::grade::rubric::Rubric;
 use raylab::grade::ssim::SsimMap;
+use raylab::grade::variants::{make_scratch_tree, VariantFile};
 use raylab::grade::{heatmap::heatmap, html, report};
 use raylab::image_io::{film_to_image, read_png, write_file_atomic, write_png};
 
@@ -98,6 +99,17 @@ enum Commands {
         #[arg(long)]
         check: bool,
     },
+    /// Write a copy of the tree with one variant of checkpoints/variants.toml applied.
+    MakeVariant {
+        /// The variant's name.
+        name: String,
+        /// Where to write the copy (replaced if it exists).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// The repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+    },
     /// Render one graded scene in this process (the grader runs itself like this per scene).
     #[command(hide = true)]
     RenderChild {
@@ -117,6 +129,7 @@ fn main() -> ExitCode {
         Some(Commands::Compare { a, b, json, heatmap }) => compare(&a, &b, json, heatmap.as_deref()),
         Some(Commands::UpdateReferences { root }) => update(&root),
         Some(Commands::Calibrate { root, table, check }) => calibrate(&root, &table, check),
+        Some(Commands::MakeVariant { name, out, root }) => make_variant(&root, &name, &out),
         Some(Commands::RenderChild { root, scene, output, seed }) => {
             render_child(&root, &scene, &output, seed)
         }
@@ -195,11 +208,11 @@ fn compare(a: &Path, b: &Path, json: bool, heatmap_path: Option<&Path>) -> Resul
         write_png(path, &heatmap(&ssim, &ia)).map_err(|e| e.to_string())?;
     }
     if json {
-        let value = serde_json::json!({"ssim": ssim.mean(), "worst_tile_ssim": ssim.worst_tile(TILE), "rmse_8bit": rmse, "image_compare_mssim_simple": simple});
+        let value = serde_json::json!({"ssim": ssim.mean(), "worst_tile_error": worst_tile_error(&ia, &ib), "rmse_8bit": rmse, "image_compare_mssim_simple": simple});
         println!("{value}");
     } else {
         println!("ssim (scikit-image, Gaussian 11x11, sigma 1.5): {:.6}", ssim.mean());
-        println!("worst {TILE}x{TILE} tile ssim:                   {:.6}", ssim.worst_tile(TILE));
+        println!("worst {TILE}x{TILE} tile error (3x3 median):     {:.4}", worst_tile_error(&ia, &ib));
         println!("rmse of 8-bit values:                       {rmse:.4}");
         println!("image-compare MSSIMSimple (8x8 tiles; not Wang's SSIM): {simple:.6}");
     }
@@ -238,6 +251,17 @@ fn calibrate(root: &Path, table: &Path, check: bool) -> Result<ExitCode, String>
         println!("calibration: {p}");
     }
     Ok(if check && !problems.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+fn make_variant(root: &Path, name: &str, out: &Path) -> Result<ExitCode, String> {
+    let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
+    let variant = variants.iter().find(|v| v.name == name).ok_or_else(|| {
+        let names: Vec<&str> = variants.iter().map(|v| v.name.as_str()).collect();
+        format!("{name}: no such variant (known: {})", names.join(", "))
+    })?;
+    make_scratch_tree(root, out, variant)?;
+    println!("{}: {} ({})", out.display(), variant.name, variant.description);
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Renders one graded scene at its graded spp. A panic is reported on one line the parent reads.

@@ -88,8 +88,9 @@ pub struct Check {
 pub enum Metric {
     /// Mean SSIM of the whole image (scikit-image's, see [`super::ssim`]).
     Ssim,
-    /// The lowest mean SSIM of any 32 × 32 tile: a local error a whole-image mean hides.
-    WorstTileSsim,
+    /// The largest mean error of any 32 × 32 tile (see [`super::metrics::worst_tile_error`]): a
+    /// local error that a whole-image mean hides.
+    WorstTileError,
     /// Mean SSIM inside a mask.
     MaskSsim,
     /// Root mean square error of linear radiance inside a mask (8-bit sRGB decoded).
@@ -113,7 +114,7 @@ impl Check {
     pub fn label(&self) -> String {
         let name = match self.metric {
             Metric::Ssim => "ssim",
-            Metric::WorstTileSsim => "worst_tile_ssim",
+            Metric::WorstTileError => "worst_tile_error",
             Metric::MaskSsim => "mask_ssim",
             Metric::MaskRmse => "mask_rmse",
         };

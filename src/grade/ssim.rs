@@ -12,8 +12,8 @@
 //! ```
 //!
 //! The image's SSIM is the mean over pixels at least 5 from the border, averaged over R, G, B.
-//! [`SsimMap`] keeps the per-pixel values (channel mean) so that tiles and masks can be scored
-//! with the same numbers. `tests/data/ssim/` pins the result against scikit-image itself.
+//! [`SsimMap`] keeps the per-pixel values (channel mean) so that masks can be scored with the
+//! same numbers. `tests/data/ssim/` pins the result against scikit-image itself.
 //!
 //! Not the same quantity as image-compare's `rgb_similarity_structure` (`MSSIMSimple`), which
 //! uses non-overlapping 8 × 8 tiles and summed variances: it scores mild noise around 0.45 where
@@ -83,20 +83,6 @@ impl SsimMap {
             }
         }
         (count > 0).then(|| sum / count as f64)
-    }
-
-    /// The lowest mean over `tile × tile` squares (aligned to the top left, interior pixels only).
-    pub fn worst_tile(&self, tile: usize) -> f64 {
-        let tiles_x = self.width.div_ceil(tile);
-        let mut sums = vec![(0.0, 0usize); tiles_x * self.height.div_ceil(tile)];
-        for y in RADIUS..self.height - RADIUS {
-            for x in RADIUS..self.width - RADIUS {
-                let t = &mut sums[(y / tile) * tiles_x + x / tile];
-                t.0 += self.values[y * self.width + x];
-                t.1 += 1;
-            }
-        }
-        sums.iter().filter(|t| t.1 > 0).map(|t| t.0 / t.1 as f64).fold(1.0, f64::min)
     }
 
     /// The SSIM at pixel `(x, y)`.
