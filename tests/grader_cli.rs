@@ -175,7 +175,11 @@ fn grader_report_for_the_solution() {
                 .enumerate()
                 .map(|(i, w)| {
                     let before_unit = words.get(i + 1) == Some(&"s") && w.parse::<f64>().is_ok();
-                    if is_seconds(w) || before_unit { "<time>" } else { w }
+                    if is_seconds(w) || before_unit {
+                        "<time>"
+                    } else {
+                        w
+                    }
                 })
                 .collect();
             redacted.join(" ").trim_end().to_string()

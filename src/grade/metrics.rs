@@ -94,7 +94,8 @@ pub fn worst_tile_error(a: &RgbImage, b: &RgbImage) -> f64 {
         let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
         (0..3).map(|k| (p[k] as f64 - q[k] as f64).abs()).sum::<f64>() / 3.0
     };
-    let errors: Vec<f64> = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| error(x, y)).collect();
+    let errors: Vec<f64> =
+        (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| error(x, y)).collect();
     let tiles_x = w.div_ceil(TILE) as usize;
     let mut tiles = vec![(0.0, 0usize); tiles_x * h.div_ceil(TILE) as usize];
     for y in 0..h {
@@ -139,4 +140,3 @@ mod tests {
         assert!(e > 60.0 * 64.0 / 1024.0 && e <= 60.0 * 100.0 / 1024.0, "{e}");
     }
 }
-
