@@ -318,11 +318,13 @@ fn score_checkpoint(
         if let Some(e) = &t.error {
             reasons.push(format!("unit tests: {e}"));
         } else if t.failed > 0 {
+            // The test's own name reads as a sentence; its module path is the checkpoint's.
+            let names: Vec<&str> = t.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f)).collect();
             reasons.push(format!(
                 "unit tests: {} of {} failed: {}",
                 t.failed,
                 t.passed + t.failed,
-                t.failures.join(", ")
+                names.join(", ")
             ));
         } else if t.passed == 0 {
             reasons.push(format!("unit tests: `cargo test {}` ran no test", checkpoint.test_filter));
