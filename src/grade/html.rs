@@ -15,7 +15,7 @@ const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background
 table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\
 .pass{color:#176f2c;font-weight:bold}.fail{color:#b3261e;font-weight:bold}\
 .images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}img{width:256px;image-rendering:pixelated;border:1px solid #ccc}\
-td{max-width:60em;overflow-wrap:anywhere}.missing{width:256px;height:256px;background:#eee;display:flex;align-items:center;justify-content:center;color:#777}\
+td:last-child{max-width:60em;overflow-wrap:anywhere}.missing{width:256px;height:256px;background:#eee;display:flex;align-items:center;justify-content:center;color:#777}\
 section{background:#fff;padding:1em 1.5em;margin:1.5em 0;border-radius:6px;box-shadow:0 1px 3px #0002}\
 .hint{background:#fff6d5;padding:.5em 1em;border-left:4px solid #e0b400}";
 
