@@ -35,21 +35,8 @@ fn tree_report(name: &str) -> String {
 }
 
 #[test]
-fn harness_bvh_shape_cornell_direct() {
-    insta::assert_snapshot!(tree_report("cornell_direct"));
-}
-
-#[test]
-fn harness_bvh_shape_cornell_refract() {
-    insta::assert_snapshot!(tree_report("cornell_refract"));
-}
-
-#[test]
-fn harness_bvh_shape_intersection_test() {
-    insta::assert_snapshot!(tree_report("intersection_test"));
-}
-
-#[test]
-fn harness_bvh_shape_aliasing() {
-    insta::assert_snapshot!(tree_report("aliasing"));
+fn harness_bvh_shape_of_every_graded_scene() {
+    for name in ["cornell_direct", "cornell_refract", "intersection_test", "aliasing"] {
+        insta::assert_snapshot!(format!("bvh_shape_{name}"), tree_report(name));
+    }
 }

@@ -34,21 +34,8 @@ fn ascii(name: &str) -> String {
 }
 
 #[test]
-fn harness_ascii_cornell_direct() {
-    insta::assert_snapshot!(ascii("cornell_direct"));
-}
-
-#[test]
-fn harness_ascii_cornell_refract() {
-    insta::assert_snapshot!(ascii("cornell_refract"));
-}
-
-#[test]
-fn harness_ascii_intersection_test() {
-    insta::assert_snapshot!(ascii("intersection_test"));
-}
-
-#[test]
-fn harness_ascii_aliasing() {
-    insta::assert_snapshot!(ascii("aliasing"));
+fn harness_ascii_of_every_graded_scene() {
+    for name in ["cornell_direct", "cornell_refract", "intersection_test", "aliasing"] {
+        insta::assert_snapshot!(format!("ascii_{name}"), ascii(name));
+    }
 }
