@@ -29,7 +29,7 @@
 //!
 //! **Check:** `cargo test checkpoint5`. Handout: `checkpoints/05-refraction.md`.
 
-use crate::math::{reflect, Vec3};
+use crate::math::Vec3;
 
 /// What a surface is made of.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,6 +51,7 @@ pub enum Material {
 /// normal `n_outward`: refracted, or mirror-reflected under total internal reflection.
 pub fn refract_or_reflect(wo: Vec3, n_outward: Vec3, ior: f32) -> Vec3 {
     // BEGIN SOLUTION checkpoint5
+    use crate::math::reflect;
     let entering = n_outward.dot(wo) > 0.0;
     let (n, eta) = if entering { (n_outward, 1.0 / ior) } else { (-n_outward, ior) };
     refract(wo, n, eta).unwrap_or_else(|| reflect(wo, n))

@@ -87,16 +87,15 @@ pub struct TriangleHit {
     pub b2: f32,
 }
 
-/// `|det|` below this fraction of `|e1 × e2|` counts as parallel: the ray meets the plane at less
-/// than about 6e-6 degrees, where the hit point's error exceeds the triangle itself.
-const PARALLEL_COSINE: f32 = 1e-7;
-
 /// Intersects `ray` with the triangle `(p0, p1, p2)` by Möller-Trumbore.
 ///
 /// Returns the hit if the ray meets the triangle (edges included, either side) at a `t` strictly
 /// inside `(ray.t_min, ray.t_max)`; `None` for a miss, a parallel ray or a degenerate triangle.
 pub fn intersect_triangle(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
     // BEGIN SOLUTION checkpoint2
+    // |det| below this fraction of |e1 × e2| counts as parallel: the ray meets the plane at less
+    // than about 6e-6 degrees, where the hit point's error exceeds the triangle itself.
+    const PARALLEL_COSINE: f32 = 1e-7;
     let e1 = p1 - p0;
     let e2 = p2 - p0;
     let p = ray.dir.cross(e2);

@@ -15,5 +15,6 @@ pub mod reference;
 pub mod report;
 pub mod rubric;
 pub mod ssim;
+pub mod stub;
 pub mod unit_tests;
 pub mod variants;

@@ -3,7 +3,7 @@
 //! **Task.** Write [`direct_from_point_light`]: the radiance a diffuse surface point reflects
 //! toward the viewer from one point light, zero if the light is hidden; and
 //! [`DirectLightingIntegrator::li`], which sums it over all lights at the surface found by
-//! [`trace_to_diffuse`] (checkpoint 5).
+//! [`trace_to_diffuse`](super::trace_to_diffuse) (checkpoint 5).
 //!
 //! **Maths.** A point light of intensity `I` ([`PointLight::intensity`], `= Φ / 4π`) at distance
 //! `r`, in direction `wi`, gives the surface an irradiance `E = I · cos θ / r²` with
@@ -18,7 +18,7 @@
 //!
 //! **Conventions** ([`crate::math`]): surfaces are two-sided, so first turn the geometric normal
 //! toward the viewer (`wo`); a light on the other side of the surface then has `cos θ ≤ 0`.
-//! The shadow ray is [`spawn_ray_to`] the light: it starts off the surface and stops short of
+//! The shadow ray is [`spawn_ray_to`](crate::math::spawn_ray_to) the light: it starts off the surface and stops short of
 //! the light. Glass blocks shadow rays: a point light seen through glass cannot be found by a
 //! straight shadow ray, so its light is lost (as in any Whitted-style renderer).
 //!
@@ -31,11 +31,9 @@
 //! **Check:** `cargo test checkpoint6`, and render `scenes/cornell_direct.toml`.
 //! Handout: `checkpoints/06-direct-lighting.md`.
 
-use std::f32::consts::PI;
-
-use super::{trace_to_diffuse, DiffuseHit};
+use super::DiffuseHit;
 use crate::light::PointLight;
-use crate::math::{spawn_ray_to, Ray, Vec3};
+use crate::math::{Ray, Vec3};
 use crate::scene::World;
 
 /// Lambertian shading from point lights with shadow rays, through glass by checkpoint 5's path.
@@ -50,6 +48,7 @@ impl DirectLightingIntegrator {
     /// surface, black if there is none.
     pub fn li(&self, world: &World, ray: Ray) -> Vec3 {
         // BEGIN SOLUTION checkpoint6
+        use super::trace_to_diffuse;
         let Some(surface) = trace_to_diffuse(world, ray, self.max_depth) else {
             return Vec3::ZERO;
         };
@@ -62,6 +61,8 @@ impl DirectLightingIntegrator {
 /// Radiance the diffuse `surface` reflects toward `surface.wo` from `light`.
 pub fn direct_from_point_light(world: &World, surface: &DiffuseHit, light: &PointLight) -> Vec3 {
     // BEGIN SOLUTION checkpoint6
+    use crate::math::spawn_ray_to;
+    use std::f32::consts::PI;
     let p = surface.hit.p;
     let n = if surface.hit.normal.dot(surface.wo) < 0.0 { -surface.hit.normal } else { surface.hit.normal };
     let to_light = light.position - p;
@@ -77,6 +78,8 @@ pub fn direct_from_point_light(world: &World, surface: &DiffuseHit, light: &Poin
 
 #[cfg(test)]
 mod checkpoint6 {
+    use std::f32::consts::PI;
+
     use super::*;
     use crate::geometry::SplitMethod;
     use crate::scene::Scene;

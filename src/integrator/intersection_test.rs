@@ -2,13 +2,13 @@
 //! what they hit.
 //!
 //! **Task.** Write [`trace_to_diffuse`]: follow a ray through perfectly refracting surfaces
-//! (using [`refract_or_reflect`] from part 1) until it reaches a diffuse surface; and
+//! (using [`refract_or_reflect`](crate::material::refract_or_reflect) from part 1) until it reaches a diffuse surface; and
 //! [`IntersectionTestIntegrator::li`]: shade that surface without any light, as
 //! `albedo · |cos θ|` between the ray and the normal, black if nothing diffuse is reached.
 //!
 //! **Algorithm.** Repeat: find the closest hit; if it is diffuse, done; if it is glass, continue
 //! from the hit point in the refracted (or totally reflected) direction with
-//! [`spawn_ray`]. Each glass surface met counts one bounce; a path that would need more than
+//! [`spawn_ray`](crate::math::spawn_ray). Each glass surface met counts one bounce; a path that would need more than
 //! `max_depth` bounces is black. A miss is black.
 //!
 //! **Conventions** ([`crate::math`]): `wo = −ray.dir`; the hit's normal is the outward geometric
@@ -16,15 +16,14 @@
 //!
 //! **Pitfalls.**
 //! - Spawning the next ray at the hit point itself: it hits the same surface again at `t ≈ 0`.
-//!   [`spawn_ray`] moves the origin to the side the new direction leaves toward.
+//!   [`spawn_ray`](crate::math::spawn_ray) moves the origin to the side the new direction leaves toward.
 //! - Computing the refracted direction but continuing along the old one.
 //! - An endless loop: count bounces.
 //!
 //! **Check:** `cargo test checkpoint5`, and render `scenes/intersection_test.toml`.
 //! Handout: `checkpoints/05-refraction.md`.
 
-use crate::material::{refract_or_reflect, Material};
-use crate::math::{spawn_ray, Ray, Vec3};
+use crate::math::{Ray, Vec3};
 use crate::scene::{SurfaceHit, World};
 
 /// The diffuse surface a path reaches, and the direction back along the path.
@@ -42,6 +41,8 @@ pub struct DiffuseHit<'a> {
 /// meets; `None` if it escapes or needs more bounces.
 pub fn trace_to_diffuse<'a>(world: &World<'a>, ray: Ray, max_depth: u32) -> Option<DiffuseHit<'a>> {
     // BEGIN SOLUTION checkpoint5
+    use crate::material::{refract_or_reflect, Material};
+    use crate::math::spawn_ray;
     let mut ray = ray;
     for _bounce in 0..=max_depth {
         let hit = world.intersect(&ray)?;

@@ -22,7 +22,6 @@
 //! **Check:** `cargo test checkpoint4`. Handout: `checkpoints/04-bvh.md`.
 
 use super::PrimRef;
-use crate::geometry::Aabb;
 
 /// How a node's triangles are divided between its two children.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -53,6 +52,7 @@ impl SplitMethod {
 /// Splits `prims` (at least two) at the median centroid along the widest centroid axis.
 pub fn object_median_split(prims: &mut [PrimRef]) -> Split {
     // BEGIN SOLUTION checkpoint4
+    use crate::geometry::Aabb;
     let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
     let axis = centroid_bounds.longest_axis();
     let mid = prims.len() / 2;
@@ -67,7 +67,7 @@ pub fn object_median_split(prims: &mut [PrimRef]) -> Split {
 #[cfg(test)]
 mod checkpoint4 {
     use super::*;
-    use crate::geometry::{Bvh, Triangle};
+    use crate::geometry::{Aabb, Bvh, Triangle};
     use crate::math::Vec3;
     use crate::rng::Rng;
     use crate::test_fixtures::{awkward_meshes, random_mesh};

@@ -22,8 +22,8 @@
 //!
 //! **Check:** `cargo test checkpoint4`. Handout: `checkpoints/04-bvh.md`.
 
-use super::{Bvh, NodeView, MAX_DEPTH};
-use crate::geometry::{intersect_triangle, TriangleHit};
+use super::Bvh;
+use crate::geometry::TriangleHit;
 use crate::math::Ray;
 
 /// The closest (or any) hit of a ray in a BVH.
@@ -58,6 +58,8 @@ impl Bvh {
     /// The closest hit of `ray`, or with `any_hit` the first hit found; counts work in `stats`.
     pub fn traverse(&self, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -> Option<BvhHit> {
         // BEGIN SOLUTION checkpoint4
+        use super::{NodeView, MAX_DEPTH};
+        use crate::geometry::intersect_triangle;
         if self.nodes.is_empty() {
             return None;
         }

@@ -1,0 +1,138 @@
+//! Solution regions, and the stubs that replace them in the student starter.
+//!
+//! Student code sits between `// BEGIN SOLUTION checkpointN` and `// END SOLUTION`, each region
+//! the whole body of one function. The stub keeps the markers, silences the parameters the
+//! body no longer uses, and panics with `todo!("checkpoint N: <the function's first doc
+//! sentence>")`, so that the starter builds without warnings and says what to write.
+
+/// The byte ranges of the bodies of `checkpoint`'s solution regions in `text` (between the end of
+/// the BEGIN line and the start of the END line).
+pub fn region_bodies(text: &str, checkpoint: u32) -> Vec<std::ops::Range<usize>> {
+    let begin = format!("// BEGIN SOLUTION checkpoint{checkpoint}\n");
+    let mut regions = Vec::new();
+    let mut from = 0;
+    while let Some(b) = text[from..].find(&begin) {
+        let start = from + b + begin.len();
+        let Some(e) = text[start..].find("// END SOLUTION") else { break };
+        let end = text[..start + e].rfind('\n').map_or(start, |i| i + 1).max(start);
+        regions.push(start..end);
+        from = start + e;
+    }
+    regions
+}
+
+/// `text` with the body of every `checkpoint` region replaced by its stub.
+pub fn stub_regions(text: &str, checkpoint: u32) -> String {
+    let mut out = text.to_string();
+    for r in region_bodies(text, checkpoint).into_iter().rev() {
+        let line_start = text[..r.start - 1].rfind('\n').map_or(0, |i| i + 1);
+        let indent: String = text[line_start..].chars().take_while(|c| c.is_whitespace()).collect();
+        let (name, params, summary) = enclosing_fn(&text[..line_start]);
+        let mut body = String::new();
+        match params.len() {
+            0 => {}
+            1 => body += &format!("{indent}let _ = {};\n", params[0]),
+            _ => body += &format!("{indent}let _ = ({});\n", params.join(", ")),
+        }
+        let message = if summary.is_empty() {
+            format!("checkpoint {checkpoint}: write `{name}`")
+        } else {
+            format!("checkpoint {checkpoint}: write `{name}`: {summary}")
+        }
+        .replace('\\', "\\\\")
+        .replace('"', "\\\"");
+        body += &format!("{indent}todo!(\"{}\")\n", message.replace('{', "{{").replace('}', "}}"));
+        out.replace_range(r, &body);
+    }
+    out
+}
+
+/// For the last `fn` in `before`: its name, its parameters as borrows to silence (`&x`, `&mut y`
+/// for a `mut y` binding; `self` and `_`-names skipped) and the first sentence of its doc comment.
+fn enclosing_fn(before: &str) -> (String, Vec<String>, String) {
+    let lines: Vec<&str> = before.lines().collect();
+    let is_fn = |l: &str| {
+        let t = l.trim_start();
+        let t = t.strip_prefix("pub(crate) ").or_else(|| t.strip_prefix("pub ")).unwrap_or(t);
+        t.starts_with("fn ")
+    };
+    let Some(fn_line) = lines.iter().rposition(|l| is_fn(l)) else {
+        return (String::new(), Vec::new(), String::new());
+    };
+    let signature = lines[fn_line..].join("\n");
+    let after_fn = &signature[signature.find("fn ").map_or(0, |i| i + 3)..];
+    let name = after_fn.split(['(', '<']).next().unwrap_or("").trim().to_string();
+    let params = signature.find('(').map_or(Vec::new(), |open| split_params(&signature[open + 1..]));
+    let docs: Vec<&str> = lines[..fn_line]
+        .iter()
+        .rev()
+        .take_while(|l| l.trim_start().starts_with("///") || l.trim_start().starts_with("#["))
+        .filter_map(|l| l.trim_start().strip_prefix("///"))
+        .collect();
+    let doc = docs.iter().rev().map(|l| l.trim()).collect::<Vec<_>>().join(" ");
+    let summary = doc.split(". ").next().unwrap_or("").trim_end_matches('.').to_string();
+    (name, params, summary)
+}
+
+/// The parameter bindings of a parameter list starting just after its `(`.
+fn split_params(list: &str) -> Vec<String> {
+    let (mut depth, mut current, mut params, mut prev) = (0i32, String::new(), Vec::new(), ' ');
+    for c in list.chars() {
+        let arrow = prev == '-' && c == '>'; // `->` in `impl Fn(A) -> B` is no bracket
+        prev = c;
+        match c {
+            _ if arrow => {}
+            '(' | '<' | '[' | '{' => depth += 1,
+            ')' | '>' | ']' | '}' if depth == 0 && c == ')' => {
+                params.push(std::mem::take(&mut current));
+                break;
+            }
+            ')' | '>' | ']' | '}' => depth -= 1,
+            ',' if depth == 0 => {
+                params.push(std::mem::take(&mut current));
+                continue;
+            }
+            _ => {}
+        }
+        current.push(c);
+    }
+    params
+        .iter()
+        .filter_map(|p| {
+            let binding = p.split(':').next()?.trim();
+            let (mutable, name) = match binding.strip_prefix("mut ") {
+                Some(name) => (true, name.trim()),
+                None => (false, binding),
+            };
+            let skip = name.is_empty() || name.contains("self") || name.starts_with('_');
+            (!skip).then(|| if mutable { format!("&mut {name}") } else { format!("&{name}") })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Markers are assembled so that the starter generator does not stub this fixture itself.
+    const SOLUTION: &str = concat!(
+        "/// Estimates the pixel. More words here.\n",
+        "pub fn estimate(pixel: UVec2, spp: u32, _rng: &mut Rng, mut radiance: impl FnMut(Vec2) -> Vec3) -> Vec3 {\n",
+        "    // BEGIN", " SOLUTION checkpoint7\n",
+        "    radiance(pixel.as_vec2()) * spp as f32\n",
+        "    // END SOLUTION\n",
+        "}\n"
+    );
+
+    #[test]
+    fn grader_stubs_say_what_to_write_and_silence_unused_parameters() {
+        let stub = stub_regions(SOLUTION, 7);
+        let expected = concat!(
+            " SOLUTION checkpoint7\n    let _ = (&pixel, &spp, &mut radiance);\n",
+            "    todo!(\"checkpoint 7: write `estimate`: Estimates the pixel\")\n    // END SOLUTION\n"
+        );
+        assert!(stub.contains(expected), "{stub}");
+        assert!(!stub.contains("radiance(pixel"));
+        assert_eq!(stub_regions(SOLUTION, 6), SOLUTION, "other checkpoints untouched");
+    }
+}

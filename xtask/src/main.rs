@@ -1,0 +1,105 @@
+//! `cargo xtask starter --out DIR`: write the student starter from the reference solution.
+//!
+//! The starter is the whole repository with every solution region replaced by its stub
+//! (`todo!("checkpoint N: ...")`, see `raylab::grade::stub`), and without what only instructors
+//! need: this generator, the mistake catalogue (`checkpoints/variants.toml`) and its calibration
+//! table. It then checks that no line of any solution survives in the starter.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use raylab::grade::stub::region_bodies;
+use raylab::grade::variants::{copy_tree, stub_tree};
+
+#[derive(Parser)]
+#[command(about = "raylab's instructor tasks")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Write the student starter repository into DIR (replaced if it exists).
+    Starter {
+        /// Where to write it.
+        #[arg(long)]
+        out: PathBuf,
+    },
+}
+
+/// Left out of the starter: build output, version control, and instructor-only material.
+const INSTRUCTOR_ONLY: [&str; 7] =
+    [".git", "target", "out", "xtask", ".cargo", "checkpoints/variants.toml", "docs/CALIBRATION.md"];
+
+const CHECKPOINTS: [u32; 7] = [1, 2, 3, 4, 5, 6, 7];
+
+fn main() -> ExitCode {
+    let Command::Starter { out } = Cli::parse().command;
+    match starter(&out) {
+        Ok(()) => {
+            println!("wrote the student starter to {}", out.display());
+            ExitCode::SUCCESS
+        }
+        Err(message) => {
+            eprintln!("xtask: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn starter(out: &Path) -> Result<(), String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().ok_or("xtask has no parent folder")?;
+    if out.exists() {
+        std::fs::remove_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    }
+    copy_tree(root, out, &INSTRUCTOR_ONLY).map_err(|e| format!("copying to {}: {e}", out.display()))?;
+    let manifest = out.join("Cargo.toml");
+    let text = std::fs::read_to_string(&manifest).map_err(|e| format!("{}: {e}", manifest.display()))?;
+    let single_package =
+        text.split("\n# The instructor's tasks").next().unwrap_or(&text).trim_end().to_string() + "\n";
+    std::fs::write(&manifest, single_package).map_err(|e| format!("{}: {e}", manifest.display()))?;
+    stub_tree(&out.join("src"), &CHECKPOINTS).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
+    let survivors = surviving_solution_lines(&root.join("src"), &out.join("src"))?;
+    if !survivors.is_empty() {
+        return Err(format!("solution lines survive in the starter: {survivors:?}"));
+    }
+    Ok(())
+}
+
+/// Lines of solution regions (of at least 12 characters, not also found outside the regions)
+/// that still occur anywhere in the starter's sources.
+fn surviving_solution_lines(solution: &Path, starter: &Path) -> Result<Vec<String>, String> {
+    let (mut inside, mut outside) = (BTreeSet::new(), BTreeSet::new());
+    for text in rust_files(solution)? {
+        let regions: Vec<_> = CHECKPOINTS.iter().flat_map(|&n| region_bodies(&text, n)).collect();
+        let mut offset = 0;
+        for line in text.split_inclusive('\n') {
+            let set = if regions.iter().any(|r| r.contains(&offset)) { &mut inside } else { &mut outside };
+            set.insert(line.trim().to_string());
+            offset += line.len();
+        }
+    }
+    let distinctive: BTreeSet<String> =
+        inside.difference(&outside).filter(|l| l.len() >= 12).cloned().collect();
+    let mut found = BTreeSet::new();
+    for text in rust_files(starter)? {
+        found.extend(text.lines().map(str::trim).filter(|l| distinctive.contains(*l)).map(str::to_string));
+    }
+    Ok(found.into_iter().collect())
+}
+
+fn rust_files(dir: &Path) -> Result<Vec<String>, String> {
+    let mut texts = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))? {
+        let path = entry.map_err(|e| e.to_string())?.path();
+        if path.is_dir() {
+            texts.extend(rust_files(&path)?);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            texts.push(std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?);
+        }
+    }
+    Ok(texts)
+}
