@@ -1,4 +1,8 @@
-//! `cargo xtask starter --out DIR`: write the student starter from the reference solution.
+//! Instructor tasks.
+//!
+//! `cargo xtask starter --out DIR` writes the student starter from the reference solution;
+//! `cargo xtask stub-matrix` proves, for each checkpoint N stubbed alone, that every checkpoint-N
+//! test fails and every test of the checkpoints before N passes.
 //!
 //! The starter is the whole repository with every solution region replaced by its stub
 //! (`todo!("checkpoint N: ...")`, see `raylab::grade::stub`), and without what only instructors
@@ -10,8 +14,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use std::time::Duration;
+
 use raylab::grade::stub::region_bodies;
-use raylab::grade::variants::{copy_tree, stub_tree};
+use raylab::grade::unit_tests::{build_tests, run_filter};
+use raylab::grade::variants::{copy_tree, make_scratch_tree, stub_tree, Variant};
 
 #[derive(Parser)]
 #[command(about = "raylab's instructor tasks")]
@@ -28,6 +35,8 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// For each checkpoint N from 2 to 7 stubbed alone: N's tests all fail, earlier ones pass.
+    StubMatrix,
 }
 
 /// Left out of the starter: build output, version control, and instructor-only material.
@@ -37,21 +46,28 @@ const INSTRUCTOR_ONLY: [&str; 7] =
 const CHECKPOINTS: [u32; 7] = [1, 2, 3, 4, 5, 6, 7];
 
 fn main() -> ExitCode {
-    let Command::Starter { out } = Cli::parse().command;
-    match starter(&out) {
-        Ok(()) => {
-            println!("wrote the student starter to {}", out.display());
-            ExitCode::SUCCESS
+    let result = match Cli::parse().command {
+        Command::Starter { out } => {
+            starter(&out).map(|()| println!("wrote the student starter to {}", out.display()))
         }
+        Command::StubMatrix => stub_matrix(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("xtask: {message}");
-            ExitCode::from(2)
+            ExitCode::from(1)
         }
     }
 }
 
+/// The repository this xtask belongs to.
+fn repository() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("xtask lives inside the repository")
+}
+
 fn starter(out: &Path) -> Result<(), String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().ok_or("xtask has no parent folder")?;
+    let root = repository();
     if out.exists() {
         std::fs::remove_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     }
@@ -102,4 +118,53 @@ fn rust_files(dir: &Path) -> Result<Vec<String>, String> {
         }
     }
     Ok(texts)
+}
+
+/// Builds each single-checkpoint stub in a scratch tree (one shared target folder) and runs the
+/// test filters of that checkpoint and the ones before it.
+fn stub_matrix() -> Result<(), String> {
+    let work = repository().join("target/stub-matrix");
+    let tree = work.join("tree");
+    // Children inherit it: cargo then reuses the dependencies built for earlier checkpoints.
+    std::env::set_var("CARGO_TARGET_DIR", work.join("target"));
+    let mut problems = Vec::new();
+    for n in 2..=7 {
+        let variant = Variant {
+            name: format!("stub_{n}"),
+            checkpoint: n,
+            correct: false,
+            description: format!("checkpoint {n} stubbed alone"),
+            fails: Vec::new(),
+            seeds: Vec::new(),
+            stub: true,
+            patches: Vec::new(),
+        };
+        make_scratch_tree(repository(), &tree, &variant)?;
+        build_tests(&tree, Duration::from_secs(900))
+            .map_err(|e| format!("stub {n}: the tests do not build: {e}"))?;
+        let mut row = format!("checkpoint {n} stubbed:");
+        for m in 1..=n {
+            let run = run_filter(&tree, &format!("checkpoint{m}"), Duration::from_secs(300));
+            row += &format!("  {m}: {}/{}", run.passed, run.passed + run.failed);
+            let ok = if m < n {
+                run.error.is_none() && run.failed == 0 && run.passed > 0
+            } else {
+                run.passed == 0 && run.failed > 0
+            };
+            if !ok {
+                problems.push(format!(
+                    "with checkpoint {n} stubbed, checkpoint {m}: {} passed, {} failed{}",
+                    run.passed,
+                    run.failed,
+                    run.error.map(|e| format!(" ({e})")).unwrap_or_default()
+                ));
+            }
+        }
+        println!("{row}");
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
 }
