@@ -59,7 +59,8 @@ pub fn run_all(root: &Path, progress: &ProgressBar) -> Result<Vec<Run>, String> 
     Ok(runs)
 }
 
-fn build(tree: &Path, target: &Path) -> Result<PathBuf, String> {
+/// Builds the grader of the tree at `tree` (release) into `target`; returns the executable.
+pub fn build(tree: &Path, target: &Path) -> Result<PathBuf, String> {
     let mut command = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
     command.current_dir(tree).env("CARGO_TARGET_DIR", target).args([
         "build",
@@ -77,7 +78,8 @@ fn build(tree: &Path, target: &Path) -> Result<PathBuf, String> {
     Ok(target.join("release/grader"))
 }
 
-fn grade_images(exe: &Path, tree: &Path, seed: Option<u64>, work: &Path) -> Result<Value, String> {
+/// Grades the images of the tree at `tree` with its grader `exe`: every check's value, per scene.
+pub fn grade_images(exe: &Path, tree: &Path, seed: Option<u64>, work: &Path) -> Result<Value, String> {
     let values = work.join("values.json");
     let mut command = Command::new(exe);
     command.arg("--all").arg("--skip-tests").arg("--root").arg(tree).arg("--values").arg(&values);

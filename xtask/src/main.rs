@@ -2,7 +2,8 @@
 //!
 //! `cargo xtask starter --out DIR` writes the student starter from the reference solution;
 //! `cargo xtask stub-matrix` proves, for each checkpoint N stubbed alone, that every checkpoint-N
-//! test fails and every test of the checkpoints before N passes.
+//! test fails and every test of the checkpoints before N passes; `cargo xtask zoo` runs the mistake
+//! catalogue and writes which check catches each mistake.
 //!
 //! The starter is the whole repository with every solution region replaced by its stub
 //! (`todo!("checkpoint N: ...")`, see `raylab::grade::stub`), and without what only instructors
@@ -16,9 +17,10 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use std::time::Duration;
 
+use raylab::grade::calibrate::{build, grade_images};
 use raylab::grade::stub::region_bodies;
 use raylab::grade::unit_tests::{build_tests, run_filter};
-use raylab::grade::variants::{copy_tree, make_scratch_tree, stub_tree, Variant};
+use raylab::grade::variants::{copy_tree, make_scratch_tree, stub_tree, Variant, VariantFile};
 
 #[derive(Parser)]
 #[command(about = "raylab's instructor tasks")]
@@ -37,6 +39,8 @@ enum Command {
     },
     /// For each checkpoint N from 2 to 7 stubbed alone: N's tests all fail, earlier ones pass.
     StubMatrix,
+    /// Run the mistake catalogue: which unit test or scene catches each variant (docs/ZOO.md).
+    Zoo,
 }
 
 /// Left out of the starter: build output, version control, and instructor-only material.
@@ -51,6 +55,7 @@ fn main() -> ExitCode {
             starter(&out).map(|()| println!("wrote the student starter to {}", out.display()))
         }
         Command::StubMatrix => stub_matrix(),
+        Command::Zoo => zoo(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -162,6 +167,80 @@ fn stub_matrix() -> Result<(), String> {
         }
         println!("{row}");
     }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
+}
+
+/// For every variant but the solution and the stubs: its own checkpoint's unit tests (all tests,
+/// for a correct alternative) and every scene's checks. A mistake must be caught by its own
+/// checkpoint's tests or by a scene grading that checkpoint; a correct alternative must pass all.
+fn zoo() -> Result<(), String> {
+    let root = repository();
+    let work = root.join("target/zoo");
+    let (tree, target) = (work.join("tree"), work.join("target"));
+    std::env::set_var("CARGO_TARGET_DIR", &target);
+    let rubric = raylab::grade::rubric::Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
+    let mut rows = vec![
+        "| variant | checkpoint | kind | failing unit tests | failing scenes | verdict |".to_string(),
+        "|---|---|---|---|---|---|".to_string(),
+    ];
+    let mut problems = Vec::new();
+    for v in variants.iter().filter(|v| !v.stub && !v.patches.is_empty()) {
+        make_scratch_tree(root, &tree, v)?;
+        let filter = if v.correct { String::new() } else { format!("checkpoint{}", v.checkpoint) };
+        let tests = match build_tests(&tree, Duration::from_secs(900)) {
+            Ok(()) => run_filter(&tree, &filter, Duration::from_secs(300)),
+            Err(e) => return Err(format!("{}: does not build: {e}", v.name)),
+        };
+        let failing_tests: Vec<String> =
+            tests.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f).to_string()).collect();
+        let values = build(&tree, &target).and_then(|exe| grade_images(&exe, &tree, None, &work))?;
+        let graders_of = |scene: &str| {
+            rubric.scenes.iter().find(|s| s.name == scene).map_or(Vec::new(), |s| s.grades.clone())
+        };
+        let failing_scenes: Vec<String> = values
+            .as_object()
+            .into_iter()
+            .flatten()
+            .filter(|(_, s)| s["passed"].as_bool() != Some(true))
+            .map(|(name, _)| name.clone())
+            .collect();
+        let caught_by_scene = failing_scenes.iter().any(|s| graders_of(s).contains(&v.checkpoint));
+        let verdict =
+            match (v.correct, failing_tests.is_empty() && tests.error.is_none(), failing_scenes.is_empty()) {
+                (true, true, true) => "passes everything",
+                (true, _, _) => "CORRECT BUT FAILS",
+                (false, false, _) => "caught",
+                (false, true, _) if caught_by_scene => "caught",
+                (false, true, _) => "NOT CAUGHT",
+            };
+        if verdict != "caught" && verdict != "passes everything" {
+            problems.push(format!("{}: {verdict}", v.name));
+        }
+        let kind = if v.correct { "correct" } else { "mistake" };
+        let list = |xs: &[String]| if xs.is_empty() { "-".to_string() } else { xs.join(", ") };
+        let row = format!(
+            "| {} | {} | {kind} | {} | {} | {verdict} |",
+            v.name,
+            v.checkpoint,
+            list(&failing_tests),
+            list(&failing_scenes)
+        );
+        println!("{row}");
+        rows.push(row);
+    }
+    let table = format!(
+        "# The mistake catalogue\n\nWritten by `cargo xtask zoo`: every variant of `checkpoints/variants.toml` (but the \
+         stubs, which `cargo xtask stub-matrix` covers), with the unit tests of its checkpoint (all tests for a correct \
+         alternative) and the graded scenes that fail. A mistake must be caught by its own checkpoint's tests or by a \
+         scene grading that checkpoint.\n\n{}\n",
+        rows.join("\n")
+    );
+    std::fs::write(root.join("docs/ZOO.md"), table).map_err(|e| format!("docs/ZOO.md: {e}"))?;
     if problems.is_empty() {
         Ok(())
     } else {
