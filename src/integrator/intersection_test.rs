@@ -156,7 +156,10 @@ mod checkpoint5 {
         let dir = Vec3::new(0.3, -1.0, 0.2).normalize();
         let d = trace_to_diffuse(&world, Ray::new(Vec3::new(0.0, 1.5, 0.0), dir), 8).unwrap();
         let straight = Ray::new(Vec3::new(0.0, 1.5, 0.0), dir).at(2.5 / -dir.y);
-        assert!((d.hit.p - straight).length() < 1e-4, "index 1 bends nothing; offsets are along the ray");
+        assert!((d.wo + dir).length() < 1e-5, "index 1 bends nothing: {}", -d.wo);
+        // Each glass surface restarts the ray δ ≤ 3e-4 off the surface along the normal
+        // (math::spawn_ray), which moves the landing point sideways by δ tan θ ≤ 0.4 δ here.
+        assert!((d.hit.p - straight).length() < 2.0 * 3e-4 * 0.4, "{} vs {straight}", d.hit.p);
     }
 
     #[test]
