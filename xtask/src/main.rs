@@ -79,9 +79,13 @@ fn starter(out: &Path) -> Result<(), String> {
     copy_tree(root, out, &INSTRUCTOR_ONLY).map_err(|e| format!("copying to {}: {e}", out.display()))?;
     let manifest = out.join("Cargo.toml");
     let text = std::fs::read_to_string(&manifest).map_err(|e| format!("{}: {e}", manifest.display()))?;
-    let single_package =
-        text.split("\n# The instructor's tasks").next().unwrap_or(&text).trim_end().to_string() + "\n";
-    std::fs::write(&manifest, single_package).map_err(|e| format!("{}: {e}", manifest.display()))?;
+    let package = text.split("\n# The instructor's tasks").next().unwrap_or(&text).trim_end();
+    // A workspace of its own (without xtask), so the starter builds wherever it is unpacked, even
+    // inside another checkout's folder.
+    let own_workspace =
+        "\n\n# A workspace of its own: the starter builds wherever it is unpacked.\n[workspace]\n";
+    std::fs::write(&manifest, format!("{package}{own_workspace}"))
+        .map_err(|e| format!("{}: {e}", manifest.display()))?;
     stub_tree(&out.join("src"), &CHECKPOINTS).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
     let survivors = surviving_solution_lines(&root.join("src"), &out.join("src"))?;
     if !survivors.is_empty() {
