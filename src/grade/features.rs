@@ -15,8 +15,6 @@ use crate::scene::World;
 /// One boolean per pixel for each mask.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Masks {
-    width: u32,
-    height: u32,
     image: RgbImage,
 }
 
@@ -61,12 +59,12 @@ impl Masks {
             });
             image.get_pixel_mut(x, y)[2] = if differs { 255 } else { 0 };
         }
-        Self { width, height, image }
+        Self { image }
     }
 
     /// Masks stored as a PNG (red = glass, green = shadow, blue = edge).
     pub fn from_image(image: RgbImage) -> Self {
-        Self { width: image.width(), height: image.height(), image }
+        Self { image }
     }
 
     /// The PNG form.
@@ -82,13 +80,5 @@ impl Masks {
             Mask::Edge => 2,
         };
         self.image.get_pixel(x, y)[channel] >= 128
-    }
-
-    /// How many pixels are in `mask`.
-    pub fn count(&self, mask: Mask) -> usize {
-        (0..self.height)
-            .flat_map(|y| (0..self.width).map(move |x| (x, y)))
-            .filter(|&(x, y)| self.contains(mask, x, y))
-            .count()
     }
 }

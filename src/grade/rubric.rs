@@ -210,9 +210,4 @@ impl Rubric {
     pub fn total_points(&self) -> f64 {
         self.checkpoints.iter().map(|c| c.test_points + c.image_points).sum()
     }
-
-    /// The masks any scene's checks use.
-    pub fn masks_of(scene: &GradedScene) -> BTreeSet<Mask> {
-        scene.checks.iter().filter_map(|c| c.mask).collect()
-    }
 }

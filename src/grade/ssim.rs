@@ -89,16 +89,6 @@ impl SsimMap {
     pub fn at(&self, x: usize, y: usize) -> f64 {
         self.values[y * self.width + x]
     }
-
-    /// Width in pixels.
-    pub fn width(&self) -> usize {
-        self.width
-    }
-
-    /// Height in pixels.
-    pub fn height(&self) -> usize {
-        self.height
-    }
 }
 
 /// The normalized Gaussian weights for offsets −RADIUS ..= RADIUS.

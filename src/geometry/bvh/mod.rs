@@ -120,11 +120,6 @@ impl Bvh {
         &self.triangles
     }
 
-    /// The input index of the triangle at leaf-order position `i`.
-    pub fn prim_id(&self, i: usize) -> u32 {
-        self.prim_ids[i]
-    }
-
     /// The length of the longest root-to-leaf path, counted in nodes (0 for an empty tree).
     pub fn depth(&self) -> usize {
         fn depth_below(nodes: &[Node], i: usize) -> usize {
