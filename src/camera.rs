@@ -54,6 +54,11 @@ impl Camera {
         self.height
     }
 
+    /// The same camera with a film of `width × height` pixels (the vertical field of view kept).
+    pub fn with_resolution(&self, width: u32, height: u32) -> Self {
+        Self { width, height, ..self.clone() }
+    }
+
     /// The ray through the film point `film` (in pixels, see the module docs).
     pub fn ray(&self, film: Vec2) -> Ray {
         let aspect = self.width as f32 / self.height as f32;

@@ -24,6 +24,7 @@
 
 #![warn(missing_docs)]
 
+pub mod bench;
 pub mod camera;
 pub mod film;
 pub mod geometry;

@@ -1,6 +1,6 @@
 //! Shared test fixtures: random geometry, awkward meshes, and an f64 ray-triangle oracle.
 
-use crate::geometry::{Triangle, TriangleMesh};
+use crate::geometry::{Bvh, SplitMethod, TraversalStats, Triangle, TriangleHit, TriangleMesh};
 use crate::math::{Ray, Vec3};
 use crate::rng::Rng;
 
@@ -30,6 +30,47 @@ pub fn random_mesh(rng: &mut Rng, n: usize) -> Vec<Triangle> {
             Triangle::new(centre + t.p0, centre + t.p1, centre + t.p2)
         })
         .collect()
+}
+
+/// The closest hit by testing every triangle.
+fn brute_force(triangles: &[Triangle], ray: &Ray) -> Option<(u32, TriangleHit)> {
+    let hits = triangles.iter().enumerate().filter_map(|(i, t)| t.intersect(ray).map(|h| (i as u32, h)));
+    hits.min_by(|a, b| a.1.t.total_cmp(&b.1.t))
+}
+
+/// Random rays from outside and inside the meshes' unit-cube region.
+fn random_ray(rng: &mut Rng) -> Ray {
+    let origin = (1.0 + 2.0 * rng.next_f32()) * random_unit_vector(rng);
+    let target = 0.8 * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.4;
+    Ray::new(origin, target - origin)
+}
+
+/// Builds a tree over `triangles` with `method` and checks `rays` random rays against testing
+/// every triangle: the same closest `t`, and any-hit agreeing with closest-hit.
+pub fn check_against_brute_force(triangles: &[Triangle], method: SplitMethod, rays: usize, rng: &mut Rng) {
+    let bvh = Bvh::build(triangles, method);
+    let mut stats = TraversalStats::default();
+    for _ in 0..rays {
+        let ray = random_ray(rng);
+        let want = brute_force(triangles, &ray);
+        let got = bvh.intersect(&ray, &mut stats);
+        assert_eq!(bvh.occluded(&ray, &mut stats), want.is_some(), "any-hit on {ray:?}");
+        match (got, want) {
+            (None, None) => {}
+            (Some(got), Some((prim, hit))) => {
+                // The same f32 test on the same ray gives the same t bit for bit: compare
+                // exactly. Two triangles at the same t (a shared edge) may both be right.
+                assert_eq!(got.hit.t, hit.t, "{ray:?}");
+                if got.prim != prim {
+                    let other = triangles[got.prim as usize].intersect(&ray);
+                    assert_eq!(other.map(|h| h.t), Some(hit.t), "{ray:?}");
+                }
+            }
+            (got, want) => {
+                panic!("{} triangles, {ray:?}: bvh {got:?}, brute force {want:?}", triangles.len())
+            }
+        }
+    }
 }
 
 /// Meshes that break naive builders: none, one triangle, all centroids equal, coplanar,

@@ -23,9 +23,9 @@
 //!   `inv_dir` (`-0.0` gives `-∞`), not by `min(t0, t1)`, which goes wrong with NaN below.
 //! - Zero direction components: `inv_dir = ±∞`, and `(min_i − o_i) · ∞` is `±∞`, which is right
 //!   (the slab is either everything or nothing). But if `o_i` lies exactly on a slab plane,
-//!   `0 · ∞ = NaN`. Rust's `f32::max` and `f32::min` return the other operand when one is NaN, so
-//!   folding with them ignores that plane, which is the right answer: a ray lying in the plane of
-//!   a closed slab is inside it for all `t`.
+//!   `0 · ∞ = NaN`. Any comparison with NaN is false, so `if near > t_in { t_in = near }` ignores
+//!   that plane (so do `f32::max` and `f32::min`, which return the other operand), and that is
+//!   the right answer: a ray lying in the plane of a closed slab is inside it for all `t`.
 //! - Start from the ray's own `t_min` and `t_max`, or boxes behind the origin count as hits.
 //!
 //! **Check:** `cargo test checkpoint3`. Handout: `checkpoints/03-aabb.md`.
@@ -70,6 +70,13 @@ impl Aabb {
         self.max - self.min
     }
 
+    /// Half the surface area, `xy + yz + zx` of the extent (0 for the empty box): what the SAH
+    /// split compares, since only ratios of areas matter there.
+    pub fn half_area(&self) -> f32 {
+        let e = self.extent().max(Vec3::ZERO);
+        e.x * e.y + e.y * e.z + e.z * e.x
+    }
+
     /// The axis (0, 1, 2 for x, y, z) along which the box is longest; ties go to the lower axis.
     pub fn longest_axis(&self) -> usize {
         let e = self.extent();
@@ -99,10 +106,16 @@ impl Aabb {
             let t_hi = (self.max[axis] - ray.origin[axis]) * inv;
             // A negative direction (including −0.0, whose inverse is −∞) meets max first.
             let (near, far) = if inv < 0.0 { (t_hi, t_lo) } else { (t_lo, t_hi) };
-            // f32::max/min drop a NaN operand: NaN comes from 0 · ∞, a ray lying in this slab's
-            // boundary plane, which this closed slab does not restrict.
-            t_in = t_in.max(near);
-            t_out = t_out.min(far);
+            // Any comparison with NaN is false, so a NaN keeps t_in and t_out as they are. NaN
+            // comes from 0 · ∞, a ray lying in this slab's boundary plane, which this closed slab
+            // does not restrict. (`t_in.max(near)` ignores NaN too, at the price of a few more
+            // instructions per call: this test runs dozens of times per ray.)
+            if near > t_in {
+                t_in = near;
+            }
+            if far < t_out {
+                t_out = far;
+            }
         }
         (t_in <= t_out).then_some((t_in, t_out))
         // END SOLUTION

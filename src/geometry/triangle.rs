@@ -23,7 +23,8 @@
 //! - "Parallel" must be judged relative to the triangle's size: `|det| = |d| |e1 × e2| |cos θ|`,
 //!   so a bare `|det| < 1e-8` rejects small triangles seen head-on and accepts huge ones seen
 //!   edge-on. Compare `|det|` with `|e1 × e2|` instead; a degenerate triangle (`e1 × e2 = 0`)
-//!   then misses too.
+//!   then misses too. That comparison needs a square root: make it last, for the few rays that
+//!   pass every other test.
 //! - Test `b1` before computing `Q`, and `b1 + b2 ≤ 1`, not `b2 ≤ 1`.
 //! - Forgetting `t_max` makes the closest-hit search in the BVH (checkpoint 4) return far hits.
 //!
@@ -100,9 +101,7 @@ pub fn intersect_triangle(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<Tri
     let e2 = p2 - p0;
     let p = ray.dir.cross(e2);
     let det = e1.dot(p);
-    // |det| = |e1 × e2| |cos θ| for a unit direction: parallel (or degenerate, when the cross
-    // product vanishes) is judged relative to the triangle's own size. `<=` makes 0 ≤ 0 a miss.
-    if det.abs() <= PARALLEL_COSINE * e1.cross(e2).length() {
+    if det == 0.0 {
         return None;
     }
     let inv_det = 1.0 / det;
@@ -117,7 +116,17 @@ pub fn intersect_triangle(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<Tri
         return None;
     }
     let t = e2.dot(q) * inv_det;
-    (t > ray.t_min && t < ray.t_max).then_some(TriangleHit { t, b1, b2 })
+    if !(t > ray.t_min && t < ray.t_max) {
+        return None;
+    }
+    // |det| = |e1 × e2| |cos θ| for a unit direction: parallel (or degenerate, when the cross
+    // product vanishes) is judged relative to the triangle's own size. Checked last because it
+    // needs a square root, and most rays were rejected above without one; a near-parallel ray
+    // only gives meaningless b1, b2, t, which this rejects whatever they are.
+    if det.abs() <= PARALLEL_COSINE * e1.cross(e2).length() {
+        return None;
+    }
+    Some(TriangleHit { t, b1, b2 })
     // END SOLUTION
 }
 

@@ -29,6 +29,9 @@ pub enum SplitMethod {
     /// Half the triangles on each side, along the widest centroid axis (the student's split).
     #[default]
     ObjectMedian,
+    /// The binned surface area heuristic ([`super::sah`]): the harness's faster tree, for
+    /// benchmarks and large meshes.
+    Sah,
 }
 
 /// A split: `prims[..mid]` go to the first child, `prims[mid..]` to the second.
@@ -45,6 +48,7 @@ impl SplitMethod {
     pub fn split(self, prims: &mut [PrimRef]) -> Split {
         match self {
             SplitMethod::ObjectMedian => object_median_split(prims),
+            SplitMethod::Sah => super::sah::sah_split(prims),
         }
     }
 }

@@ -115,53 +115,14 @@ mod checkpoint4 {
     use crate::geometry::{SplitMethod, Triangle};
     use crate::math::Vec3;
     use crate::rng::Rng;
-    use crate::test_fixtures::{awkward_meshes, random_mesh, random_unit_vector};
-
-    /// The closest hit by testing every triangle.
-    fn brute_force(triangles: &[Triangle], ray: &Ray) -> Option<(u32, TriangleHit)> {
-        let hits = triangles.iter().enumerate().filter_map(|(i, t)| t.intersect(ray).map(|h| (i as u32, h)));
-        hits.min_by(|a, b| a.1.t.total_cmp(&b.1.t))
-    }
-
-    /// Random rays from outside and inside the meshes' unit-cube region.
-    fn random_ray(rng: &mut Rng) -> Ray {
-        let origin = (1.0 + 2.0 * rng.next_f32()) * random_unit_vector(rng);
-        let target = 0.8 * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.4;
-        Ray::new(origin, target - origin)
-    }
-
-    fn check_against_brute_force(triangles: &[Triangle], rays: usize, rng: &mut Rng) {
-        let bvh = Bvh::build(triangles, SplitMethod::ObjectMedian);
-        let mut stats = TraversalStats::default();
-        for _ in 0..rays {
-            let ray = random_ray(rng);
-            let want = brute_force(triangles, &ray);
-            let got = bvh.intersect(&ray, &mut stats);
-            assert_eq!(bvh.occluded(&ray, &mut stats), want.is_some(), "any-hit on {ray:?}");
-            match (got, want) {
-                (None, None) => {}
-                (Some(got), Some((prim, hit))) => {
-                    // The same f32 test on the same ray gives the same t bit for bit: compare
-                    // exactly. Two triangles at the same t (a shared edge) may both be right.
-                    assert_eq!(got.hit.t, hit.t, "{ray:?}");
-                    if got.prim != prim {
-                        let other = triangles[got.prim as usize].intersect(&ray);
-                        assert_eq!(other.map(|h| h.t), Some(hit.t), "{ray:?}");
-                    }
-                }
-                (got, want) => {
-                    panic!("{} triangles, {ray:?}: bvh {got:?}, brute force {want:?}", triangles.len())
-                }
-            }
-        }
-    }
+    use crate::test_fixtures::{awkward_meshes, check_against_brute_force, random_mesh};
 
     #[test]
     fn closest_hits_equal_brute_force_on_random_meshes() {
         let mut rng = Rng::new(6, 0);
         for n in [1, 2, 5, 17, 100, 1000] {
             let triangles = random_mesh(&mut rng, n);
-            check_against_brute_force(&triangles, 2_000, &mut rng);
+            check_against_brute_force(&triangles, SplitMethod::ObjectMedian, 2_000, &mut rng);
         }
     }
 
@@ -169,7 +130,7 @@ mod checkpoint4 {
     fn closest_hits_equal_brute_force_on_awkward_meshes() {
         let mut rng = Rng::new(7, 0);
         for triangles in awkward_meshes() {
-            check_against_brute_force(&triangles, 2_000, &mut rng);
+            check_against_brute_force(&triangles, SplitMethod::ObjectMedian, 2_000, &mut rng);
         }
     }
 
