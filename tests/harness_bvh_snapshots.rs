@@ -10,10 +10,10 @@ use raylab::math::Vec2;
 use raylab::scene::Scene;
 
 /// Nodes, depth, and mean box and triangle tests per pixel-centre ray over a 64×64 grid.
-fn tree_report(name: &str) -> String {
+fn tree_report(name: &str, method: SplitMethod) -> String {
     let scene =
         Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml"))).unwrap();
-    let bvh = Bvh::build(&scene.triangles, SplitMethod::ObjectMedian);
+    let bvh = Bvh::build(&scene.triangles, method);
     bvh.validate().unwrap();
     let mut stats = TraversalStats::default();
     let (w, h) = (scene.camera.width() as f32, scene.camera.height() as f32);
@@ -37,6 +37,7 @@ fn tree_report(name: &str) -> String {
 #[test]
 fn harness_bvh_shape_of_every_graded_scene() {
     for name in ["cornell_direct", "cornell_refract", "intersection_test", "aliasing"] {
-        insta::assert_snapshot!(format!("bvh_shape_{name}"), tree_report(name));
+        insta::assert_snapshot!(format!("bvh_shape_{name}"), tree_report(name, SplitMethod::ObjectMedian));
+        insta::assert_snapshot!(format!("bvh_sah_shape_{name}"), tree_report(name, SplitMethod::Sah));
     }
 }

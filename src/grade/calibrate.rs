@@ -17,7 +17,7 @@ use serde_json::Value;
 
 use super::child::run_with_limit;
 use super::rubric::Rubric;
-use super::variants::{make_scratch_tree, Variant, VariantFile};
+use super::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
 
 /// One graded run of one variant with one seed.
 #[derive(Clone, Debug)]
@@ -34,11 +34,11 @@ pub struct Run {
 pub fn run_all(root: &Path, progress: &ProgressBar) -> Result<Vec<Run>, String> {
     // Calibration needs the correct variants and the mistakes an image must show (`fails`); the
     // rest of the mistake catalogue is `cargo xtask zoo`'s.
-    let variants: Vec<Variant> = VariantFile::load(&root.join("checkpoints/variants.toml"))?
-        .variants
-        .into_iter()
-        .filter(|v| v.correct || v.stub || !v.fails.is_empty())
-        .collect();
+    // Every patch must still apply, those of variants calibration does not build included.
+    let catalogue = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
+    check_patches(root, &catalogue)?;
+    let variants: Vec<Variant> =
+        catalogue.into_iter().filter(|v| v.correct || v.stub || !v.fails.is_empty()).collect();
     // Absolute: cargo runs inside the scratch tree, where a relative path would mean another place.
     let root = std::path::absolute(root).map_err(|e| format!("{}: {e}", root.display()))?;
     let work = root.join("target/variants");

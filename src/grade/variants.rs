@@ -99,6 +99,37 @@ pub fn apply(text: &str, checkpoint: u32, patch: &Patch) -> Result<String, Strin
     }
 }
 
+/// Checks that every patch of every variant applies to the sources at `root` as they are now, so
+/// a change to a solution region that breaks the catalogue is found before anything is built.
+/// The error lists every patch that no longer applies, one per line.
+pub fn check_patches(root: &Path, variants: &[Variant]) -> Result<(), String> {
+    let mut problems = Vec::new();
+    for variant in variants {
+        let mut patched: Vec<(&Path, String)> = Vec::new();
+        for patch in &variant.patches {
+            let text = match patched.iter().position(|(file, _)| *file == patch.file.as_path()) {
+                Some(i) => patched.remove(i).1,
+                None => match std::fs::read_to_string(root.join(&patch.file)) {
+                    Ok(text) => text,
+                    Err(e) => {
+                        problems.push(format!("variant {}: {}: {e}", variant.name, patch.file.display()));
+                        continue;
+                    }
+                },
+            };
+            match apply(&text, variant.checkpoint, patch) {
+                Ok(text) => patched.push((&patch.file, text)),
+                Err(e) => problems.push(format!("variant {}: {e}", variant.name)),
+            }
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
+}
+
 /// Copies the tree at `root` to `dest` (without build output or version control) and applies the
 /// variant's patches there.
 pub fn make_scratch_tree(root: &Path, dest: &Path, variant: &Variant) -> Result<(), String> {

@@ -20,7 +20,7 @@ use std::time::Duration;
 use raylab::grade::calibrate::{build, grade_images};
 use raylab::grade::stub::region_bodies;
 use raylab::grade::unit_tests::{build_tests, run_filter};
-use raylab::grade::variants::{copy_tree, make_scratch_tree, stub_tree, Variant, VariantFile};
+use raylab::grade::variants::{check_patches, copy_tree, make_scratch_tree, stub_tree, Variant, VariantFile};
 
 #[derive(Parser)]
 #[command(about = "raylab's instructor tasks")]
@@ -188,6 +188,7 @@ fn zoo() -> Result<(), String> {
     std::env::set_var("CARGO_TARGET_DIR", &target);
     let rubric = raylab::grade::rubric::Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
     let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
+    check_patches(root, &variants)?;
     let mut rows = vec![
         "| variant | checkpoint | kind | failing unit tests | failing scenes | verdict |".to_string(),
         "|---|---|---|---|---|---|".to_string(),

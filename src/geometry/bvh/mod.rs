@@ -75,6 +75,14 @@ impl Node {
         Self { bounds, index: second_child, meta: INTERIOR | axis as u32 }
     }
 
+    /// This node as it reads when its subtree is moved `offset` places further down the array.
+    fn moved_by(self, offset: u32) -> Self {
+        match self.view() {
+            NodeView::Leaf { .. } => self,
+            NodeView::Interior { .. } => Self { index: self.index + offset, ..self },
+        }
+    }
+
     /// The box around everything below this node.
     pub fn bounds(&self) -> &Aabb {
         &self.bounds
@@ -220,8 +228,15 @@ impl Bvh {
     }
 }
 
+/// Nodes over at least this many triangles build their two children in parallel: large enough
+/// that handing work to another thread costs nothing next to the work itself.
+const PARALLEL_BUILD_MIN: usize = 1 << 14;
+
 /// Appends the subtree over `prims` (which start at position `first` of the leaf order) to
 /// `nodes` in depth-first order, and returns the index of its root.
+///
+/// The tree is the same whatever the number of threads: splits depend only on the triangles, and
+/// a second child built on another thread is appended exactly where the sequential build puts it.
 fn build_node(prims: &mut [PrimRef], first: usize, method: SplitMethod, nodes: &mut Vec<Node>) -> u32 {
     let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let index = nodes.len();
@@ -229,6 +244,7 @@ fn build_node(prims: &mut [PrimRef], first: usize, method: SplitMethod, nodes: &
         nodes.push(Node::leaf(bounds, first as u32, prims.len() as u32));
         return index as u32;
     }
+    let parallel = prims.len() >= PARALLEL_BUILD_MIN;
     let split = method.split(prims);
     debug_assert!(
         0 < split.mid && split.mid < prims.len(),
@@ -239,8 +255,49 @@ fn build_node(prims: &mut [PrimRef], first: usize, method: SplitMethod, nodes: &
     // A placeholder, completed once the second child's index is known.
     nodes.push(Node::leaf(bounds, 0, 0));
     let (left, right) = prims.split_at_mut(split.mid);
-    build_node(left, first, method, nodes);
-    let second_child = build_node(right, first + split.mid, method, nodes);
+    let right_first = first + split.mid;
+    let second_child = if parallel {
+        // The second child goes into a vector of its own, its links counted from 0, and is moved
+        // behind the first child once both are done.
+        let ((), right_nodes) = rayon::join(
+            || {
+                build_node(left, first, method, nodes);
+            },
+            || {
+                let mut right_nodes = Vec::with_capacity(2 * right.len() / MAX_LEAF_TRIANGLES);
+                build_node(right, right_first, method, &mut right_nodes);
+                right_nodes
+            },
+        );
+        let offset = nodes.len() as u32;
+        nodes.extend(right_nodes.into_iter().map(|node| node.moved_by(offset)));
+        offset
+    } else {
+        build_node(left, first, method, nodes);
+        build_node(right, right_first, method, nodes)
+    };
     nodes[index] = Node::interior(bounds, split.axis as u8, second_child);
     index as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+    use crate::test_fixtures::random_mesh;
+
+    #[test]
+    fn the_tree_is_the_same_for_any_number_of_build_threads() {
+        let triangles = random_mesh(&mut Rng::new(13, 0), 3 * PARALLEL_BUILD_MIN);
+        for method in [SplitMethod::ObjectMedian, SplitMethod::Sah] {
+            let build = |threads| {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                pool.install(|| Bvh::build(&triangles, method))
+            };
+            let (one, four) = (build(1), build(4));
+            four.validate().unwrap();
+            assert_eq!(one.nodes, four.nodes, "{method:?}");
+            assert_eq!(one.prim_ids, four.prim_ids, "{method:?}");
+        }
+    }
 }
