@@ -254,3 +254,16 @@ fn zoo() -> Result<(), String> {
         Err(problems.join("\n"))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The catalogue patches the solution's text: an edit to a solution region can silently
+    /// break one. Checked here in a second, long before `zoo` or `grader calibrate` build it.
+    #[test]
+    fn every_catalogue_patch_applies_to_the_current_solution() {
+        let variants = VariantFile::load(&repository().join("checkpoints/variants.toml")).unwrap().variants;
+        check_patches(repository(), &variants).unwrap_or_else(|e| panic!("{e}"));
+    }
+}
