@@ -96,6 +96,7 @@ impl Aabb {
 
     /// The overlap `(t_in, t_out)` of the box with the ray's range `[t_min, t_max]`, a closed
     /// interval (`t_in == t_out` when the ray touches the box or crosses a flat one), or `None`.
+    #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<(f32, f32)> {
         // BEGIN SOLUTION checkpoint3
         let mut t_in = ray.t_min;

@@ -92,6 +92,7 @@ pub struct TriangleHit {
 ///
 /// Returns the hit if the ray meets the triangle (edges included, either side) at a `t` strictly
 /// inside `(ray.t_min, ray.t_max)`; `None` for a miss, a parallel ray or a degenerate triangle.
+#[inline]
 pub fn intersect_triangle(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
     // BEGIN SOLUTION checkpoint2
     // |det| below this fraction of |e1 × e2| counts as parallel: the ray meets the plane at less
