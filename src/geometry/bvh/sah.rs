@@ -28,24 +28,38 @@ pub const BINS: usize = 16;
 /// Splits `prims` (at least two) at the binned plane of least SAH cost.
 pub fn sah_split(prims: &mut [PrimRef]) -> Split {
     let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
+    let binnings = [0, 1, 2].map(|axis| Binning::new(&centroid_bounds, axis));
+    // One pass over the triangles fills the bins of all three axes.
+    let mut bins = [[Bin::EMPTY; BINS]; 3];
+    for p in prims.iter() {
+        for (axis_bins, binning) in bins.iter_mut().zip(&binnings) {
+            let bin = &mut axis_bins[binning.of(p)];
+            bin.count += 1;
+            bin.bounds = bin.bounds.union(p.bounds);
+        }
+    }
     let best = (0..3)
-        .filter_map(|axis| best_plane(prims, &centroid_bounds, axis))
-        .min_by(|a, b| a.cost.total_cmp(&b.cost).then(a.axis.cmp(&b.axis)));
-    let Some(best) = best else {
+        // Centroids that do not spread along an axis all share one bin: no plane there.
+        .filter(|&axis| centroid_bounds.extent()[axis] > 0.0)
+        .filter_map(|axis| best_plane(&bins[axis], prims.len()).map(|(bin, cost)| (axis, bin, cost)))
+        .min_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
+    let Some((axis, first_right_bin, _)) = best else {
         // Every centroid is the same point: no plane separates them, and any halving is as good.
         return Split { axis: 0, mid: prims.len() / 2 };
     };
-    let bin = Binning::new(&centroid_bounds, best.axis);
-    let mid = partition(prims, |p| bin.of(p) < best.first_right_bin);
-    Split { axis: best.axis, mid }
+    let mid = partition(prims, |p| binnings[axis].of(p) < first_right_bin);
+    Split { axis, mid }
 }
 
-/// The best plane found on one axis.
-struct Plane {
-    axis: usize,
-    /// Bins `first_right_bin..` go to the second child.
-    first_right_bin: usize,
-    cost: f32,
+/// The triangles whose centroids fall in one slice: how many, and the box around them.
+#[derive(Clone, Copy)]
+struct Bin {
+    count: u32,
+    bounds: Aabb,
+}
+
+impl Bin {
+    const EMPTY: Bin = Bin { count: 0, bounds: Aabb::EMPTY };
 }
 
 /// Maps a centroid coordinate on one axis to its bin.
@@ -62,45 +76,33 @@ impl Binning {
     }
 
     fn of(&self, prim: &PrimRef) -> usize {
-        // The largest centroid lands on BINS exactly: clamp it into the last bin.
+        // The largest centroid lands on BINS exactly: clamp it into the last bin. (A zero extent
+        // gives 0 · ∞ = NaN, which `as` turns into bin 0.)
         (((prim.centroid[self.axis] - self.min) * self.scale) as usize).min(BINS - 1)
     }
 }
 
-/// The cheapest of the `BINS - 1` planes on `axis`, or `None` if the centroids do not spread
-/// along it.
-fn best_plane(prims: &[PrimRef], centroid_bounds: &Aabb, axis: usize) -> Option<Plane> {
-    if centroid_bounds.extent()[axis] <= 0.0 {
-        return None;
-    }
-    let binning = Binning::new(centroid_bounds, axis);
-    let mut counts = [0u32; BINS];
-    let mut bounds = [Aabb::EMPTY; BINS];
-    for p in prims {
-        let b = binning.of(p);
-        counts[b] += 1;
-        bounds[b] = bounds[b].union(p.bounds);
-    }
+/// The cheapest of the `BINS - 1` planes between bins, as (first bin of the second child, cost),
+/// or `None` if every plane leaves one side empty. `n` is the number of triangles binned.
+fn best_plane(bins: &[Bin; BINS], n: usize) -> Option<(usize, f32)> {
     // Sweep from the right: right_cost[i] is the cost of bins i.. as one child.
     let mut right_cost = [0f32; BINS];
-    let (mut n, mut acc) = (0u32, Aabb::EMPTY);
+    let mut acc = Bin::EMPTY;
     for i in (1..BINS).rev() {
-        n += counts[i];
-        acc = acc.union(bounds[i]);
-        right_cost[i] = n as f32 * acc.half_area();
+        acc = Bin { count: acc.count + bins[i].count, bounds: acc.bounds.union(bins[i].bounds) };
+        right_cost[i] = acc.count as f32 * acc.bounds.half_area();
     }
     // Sweep from the left, combining with the right sweep; skip planes with an empty side.
-    let (mut n, mut acc) = (0u32, Aabb::EMPTY);
-    let mut best: Option<Plane> = None;
+    let mut acc = Bin::EMPTY;
+    let mut best: Option<(usize, f32)> = None;
     for i in 1..BINS {
-        n += counts[i - 1];
-        acc = acc.union(bounds[i - 1]);
-        if n == 0 || n as usize == prims.len() {
+        acc = Bin { count: acc.count + bins[i - 1].count, bounds: acc.bounds.union(bins[i - 1].bounds) };
+        if acc.count == 0 || acc.count as usize == n {
             continue;
         }
-        let cost = n as f32 * acc.half_area() + right_cost[i];
-        if best.as_ref().is_none_or(|b| cost < b.cost) {
-            best = Some(Plane { axis, first_right_bin: i, cost });
+        let cost = acc.count as f32 * acc.bounds.half_area() + right_cost[i];
+        if best.is_none_or(|(_, c)| cost < c) {
+            best = Some((i, cost));
         }
     }
     best
