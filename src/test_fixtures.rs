@@ -73,6 +73,14 @@ pub fn check_against_brute_force(triangles: &[Triangle], method: SplitMethod, ra
     }
 }
 
+/// Twenty random meshes of 1 to 704 triangles, then the awkward ones: what tree tests build on.
+pub fn random_and_awkward_meshes(seed: u64) -> Vec<Vec<Triangle>> {
+    let mut rng = Rng::new(seed, 0);
+    let mut meshes: Vec<Vec<Triangle>> = (0..20).map(|i| random_mesh(&mut rng, 1 + i * 37)).collect();
+    meshes.extend(awkward_meshes());
+    meshes
+}
+
 /// Meshes that break naive builders: none, one triangle, all centroids equal, coplanar,
 /// slivers, and a closed sphere.
 pub fn awkward_meshes() -> Vec<Vec<Triangle>> {

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use embree::sys::{
     rtcAttachGeometry, rtcCommitGeometry, rtcCommitScene, rtcGetDeviceError, rtcIntersect1, rtcNewDevice,
     rtcNewGeometry, rtcNewScene, rtcOccluded1, rtcReleaseDevice, rtcReleaseGeometry, rtcReleaseScene,
-    rtcSetNewGeometryBuffer, RTCDevice, RTCScene,
+    rtcSetNewGeometryBuffer, RTCDevice, RTCGeometry, RTCScene,
 };
 use embree::{BufferType, Error, Format, GeometryType, IntersectContext, RayHit};
 use rayon::prelude::*;
@@ -44,30 +44,13 @@ impl EmbreeScene {
                 return Err("Embree: rtcNewDevice failed".into());
             }
             let geometry = rtcNewGeometry(device, GeometryType::TRIANGLE);
-            let vertices = rtcSetNewGeometryBuffer(
-                geometry,
-                BufferType::VERTEX,
-                0,
-                Format::FLOAT3,
-                12,
-                mesh.positions.len(),
-            ) as *mut [f32; 3];
-            let indices = rtcSetNewGeometryBuffer(
-                geometry,
-                BufferType::INDEX,
-                0,
-                Format::UINT3,
-                12,
-                mesh.indices.len(),
-            ) as *mut [u32; 3];
-            if vertices.is_null() || indices.is_null() {
-                return Err("Embree: could not allocate the geometry buffers".into());
-            }
-            for (i, p) in mesh.positions.iter().enumerate() {
-                vertices.add(i).write(p.to_array());
-            }
-            for (i, t) in mesh.indices.iter().enumerate() {
-                indices.add(i).write(*t);
+            let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+            let filled = fill_buffer(geometry, BufferType::VERTEX, Format::FLOAT3, &positions)
+                .and_then(|()| fill_buffer(geometry, BufferType::INDEX, Format::UINT3, &mesh.indices));
+            if let Err(e) = filled {
+                rtcReleaseGeometry(geometry);
+                rtcReleaseDevice(device);
+                return Err(e);
             }
             rtcCommitGeometry(geometry);
             let scene = rtcNewScene(device);
@@ -123,6 +106,25 @@ impl EmbreeScene {
             }
         }
     }
+}
+
+/// Gives `geometry` a new buffer of `items` (three 4-byte values each) and copies them in.
+///
+/// # Safety
+/// `geometry` must be a live Embree geometry handle.
+unsafe fn fill_buffer<T: Copy>(
+    geometry: RTCGeometry,
+    kind: BufferType,
+    format: Format,
+    items: &[T],
+) -> Result<(), String> {
+    debug_assert_eq!(std::mem::size_of::<T>(), 12);
+    let buffer = rtcSetNewGeometryBuffer(geometry, kind, 0, format, 12, items.len()) as *mut T;
+    if buffer.is_null() {
+        return Err(format!("Embree: could not allocate a {kind:?} buffer"));
+    }
+    std::ptr::copy_nonoverlapping(items.as_ptr(), buffer, items.len());
+    Ok(())
 }
 
 impl Drop for EmbreeScene {

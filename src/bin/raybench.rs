@@ -141,10 +141,8 @@ fn run(args: Args) -> Result<(), String> {
     };
     for workload in workloads {
         let rays = workload.rays();
-        let passes: Vec<_> = (0..args.repeat)
-            .map(|_| pool.install(|| bench::trace(&bvh, &rays, workload.any_hit())))
-            .collect();
-        let best = passes.iter().min_by_key(|r| r.time).expect("at least one pass");
+        let pass = Pass { pool: &pool, rays: &rays, workload, repeat: args.repeat };
+        let best = &pass.raylab(&bvh);
         println!(
             "{:<10} {:>8} {:>8.2} {:>8.1} {:>8.1}  {}{}",
             workload.to_string(),
@@ -153,7 +151,7 @@ fn run(args: Args) -> Result<(), String> {
             best.box_tests_per_ray(),
             best.triangle_tests_per_ray(),
             best.hits,
-            peer.row(&pool, &rays, workload, args.repeat, best)?,
+            peer.row(&pass, best)?,
         );
     }
     print_memory("at the end");
@@ -204,6 +202,7 @@ impl Peers {
         }
     }
 
+    /// Extra column titles when a peer runs.
     fn header(&self) -> &'static str {
         #[cfg(feature = "peer-embree")]
         if self.embree.is_some() {
@@ -212,28 +211,43 @@ impl Peers {
         ""
     }
 
-    #[allow(unused_variables)]
-    fn row(
-        &self,
-        pool: &rayon::ThreadPool,
-        rays: &[raylab::math::Ray],
-        workload: Workload,
-        repeat: u32,
-        raylab: &bench::TraceReport,
-    ) -> Result<String, String> {
-        #[cfg(feature = "peer-embree")]
-        if let Some(scene) = &self.embree {
-            let passes: Vec<_> =
-                (0..repeat).map(|_| pool.install(|| scene.trace(rays, workload.any_hit()))).collect();
-            let (hits, time) = passes.into_iter().min_by_key(|p| p.1).expect("at least one pass");
-            let mrays = rays.len() as f64 / secs(time) / 1e6;
-            // Both engines must agree on what was hit, or the comparison means nothing. Rays
-            // grazing an edge may differ; allow one in 10^4.
-            if hits.abs_diff(raylab.hits) > rays.len() / 10_000 {
-                return Err(format!("Embree hit {hits} rays, raylab {}: the engines disagree", raylab.hits));
-            }
-            return Ok(format!("  {mrays:>10.2}  {:>13.2}", raylab.mrays_per_second() / mrays));
+    /// The peer's columns for one workload: its fastest pass and the throughput ratio.
+    #[cfg(feature = "peer-embree")]
+    fn row(&self, pass: &Pass, raylab: &bench::TraceReport) -> Result<String, String> {
+        let Some(scene) = &self.embree else { return Ok(String::new()) };
+        let passes: Vec<_> = (0..pass.repeat)
+            .map(|_| pass.pool.install(|| scene.trace(pass.rays, pass.workload.any_hit())))
+            .collect();
+        let (hits, time) = passes.into_iter().min_by_key(|p| p.1).expect("at least one pass");
+        let mrays = pass.rays.len() as f64 / secs(time) / 1e6;
+        // Both engines must agree on what was hit, or the comparison means nothing. Rays grazing
+        // an edge may differ; allow one in 10^4.
+        if hits.abs_diff(raylab.hits) > pass.rays.len() / 10_000 {
+            return Err(format!("Embree hit {hits} rays, raylab {}: the engines disagree", raylab.hits));
         }
+        Ok(format!("  {mrays:>10.2}  {:>13.2}", raylab.mrays_per_second() / mrays))
+    }
+
+    /// No peer is compiled in: no columns.
+    #[cfg(not(feature = "peer-embree"))]
+    fn row(&self, _: &Pass, _: &bench::TraceReport) -> Result<String, String> {
         Ok(String::new())
+    }
+}
+
+/// One workload's passes: where, what, and how often.
+struct Pass<'a> {
+    pool: &'a rayon::ThreadPool,
+    rays: &'a [raylab::math::Ray],
+    workload: Workload,
+    repeat: u32,
+}
+
+impl Pass<'_> {
+    /// raylab's fastest pass (the counts are the same in every pass).
+    fn raylab(&self, bvh: &Bvh) -> bench::TraceReport {
+        let passes = (0..self.repeat)
+            .map(|_| self.pool.install(|| bench::trace(bvh, self.rays, self.workload.any_hit())));
+        passes.min_by_key(|r| r.time).expect("at least one pass")
     }
 }

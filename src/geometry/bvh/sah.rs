@@ -126,7 +126,9 @@ mod tests {
     use crate::geometry::{Bvh, SplitMethod, Triangle};
     use crate::math::Vec3;
     use crate::rng::Rng;
-    use crate::test_fixtures::{awkward_meshes, check_against_brute_force, random_mesh};
+    use crate::test_fixtures::{
+        awkward_meshes, check_against_brute_force, random_and_awkward_meshes, random_mesh,
+    };
 
     fn prim(index: u32, min: Vec3, max: Vec3) -> PrimRef {
         let bounds = Aabb::new(min, max);
@@ -159,10 +161,7 @@ mod tests {
 
     #[test]
     fn sah_trees_over_random_and_awkward_meshes_are_valid() {
-        let mut rng = Rng::new(11, 0);
-        let mut meshes: Vec<Vec<Triangle>> = (0..20).map(|i| random_mesh(&mut rng, 1 + i * 37)).collect();
-        meshes.extend(awkward_meshes());
-        for triangles in &meshes {
+        for triangles in &random_and_awkward_meshes(11) {
             let bvh = Bvh::build(triangles, SplitMethod::Sah);
             bvh.validate().unwrap_or_else(|e| panic!("{} triangles: {e}", triangles.len()));
         }

@@ -71,10 +71,9 @@ pub fn object_median_split(prims: &mut [PrimRef]) -> Split {
 #[cfg(test)]
 mod checkpoint4 {
     use super::*;
-    use crate::geometry::{Aabb, Bvh, Triangle};
+    use crate::geometry::{Aabb, Bvh};
     use crate::math::Vec3;
-    use crate::rng::Rng;
-    use crate::test_fixtures::{awkward_meshes, random_mesh};
+    use crate::test_fixtures::random_and_awkward_meshes;
 
     fn prims_at(centroids: &[Vec3]) -> Vec<PrimRef> {
         let prim =
@@ -123,10 +122,7 @@ mod checkpoint4 {
 
     #[test]
     fn trees_over_random_and_awkward_meshes_are_valid() {
-        let mut rng = Rng::new(5, 0);
-        let mut meshes: Vec<Vec<Triangle>> = (0..20).map(|i| random_mesh(&mut rng, 1 + i * 37)).collect();
-        meshes.extend(awkward_meshes());
-        for triangles in &meshes {
+        for triangles in &random_and_awkward_meshes(5) {
             let bvh = Bvh::build(triangles, SplitMethod::ObjectMedian);
             bvh.validate().unwrap_or_else(|e| panic!("{} triangles: {e}", triangles.len()));
             if triangles.len() > 1 {
