@@ -64,6 +64,8 @@ impl Bvh {
             return None;
         }
         let mut ray = *ray;
+        // Looked up by the node's axis below: an array index, where `ray.dir[axis]` would branch.
+        let dir_is_negative = ray.dir.to_array().map(|d| d < 0.0);
         let mut closest = None;
         let mut stack = [0u32; MAX_DEPTH];
         let mut stack_len = 0;
@@ -87,10 +89,10 @@ impl Bvh {
                     }
                     NodeView::Interior { axis, second_child } => {
                         let (first_child, second_child) = (node + 1, second_child as usize);
-                        let (near, far) = if ray.dir[axis as usize] >= 0.0 {
-                            (first_child, second_child)
-                        } else {
+                        let (near, far) = if dir_is_negative[axis as usize] {
                             (second_child, first_child)
+                        } else {
+                            (first_child, second_child)
                         };
                         stack[stack_len] = far as u32;
                         stack_len += 1;
