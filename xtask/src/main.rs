@@ -86,12 +86,41 @@ fn starter(out: &Path) -> Result<(), String> {
         "\n\n# A workspace of its own: the starter builds wherever it is unpacked.\n[workspace]\n";
     std::fs::write(&manifest, format!("{package}{own_workspace}"))
         .map_err(|e| format!("{}: {e}", manifest.display()))?;
+    let readme = out.join("README.md");
+    let text = std::fs::read_to_string(&readme).map_err(|e| format!("{}: {e}", readme.display()))?;
+    std::fs::write(&readme, student_readme(&text)?).map_err(|e| format!("{}: {e}", readme.display()))?;
     stub_tree(&out.join("src"), &CHECKPOINTS).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
     let survivors = surviving_solution_lines(&root.join("src"), &out.join("src"))?;
     if !survivors.is_empty() {
         return Err(format!("solution lines survive in the starter: {survivors:?}"));
     }
     Ok(())
+}
+
+/// The README as students see it: blocks between `<!-- BEGIN INSTRUCTOR -->` and
+/// `<!-- END INSTRUCTOR -->` removed, and the text of `<!-- STUDENT ... -->` comments shown.
+fn student_readme(text: &str) -> Result<String, String> {
+    const BEGIN: &str = "<!-- BEGIN INSTRUCTOR -->\n";
+    const END: &str = "<!-- END INSTRUCTOR -->\n";
+    const STUDENT: &str = "<!-- STUDENT\n";
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(start) = rest.find(BEGIN) {
+        let end = rest[start..].find(END).ok_or("README.md: an instructor block is not closed")? + start;
+        out.push_str(&rest[..start]);
+        rest = &rest[end + END.len()..];
+    }
+    out.push_str(rest);
+    let mut shown = String::new();
+    let mut rest = out.as_str();
+    while let Some(start) = rest.find(STUDENT) {
+        let end = rest[start..].find("-->\n").ok_or("README.md: a student comment is not closed")? + start;
+        shown.push_str(&rest[..start]);
+        shown.push_str(&rest[start + STUDENT.len()..end]);
+        rest = &rest[end + "-->\n".len()..];
+    }
+    shown.push_str(rest);
+    Ok(shown)
 }
 
 /// Lines of solution regions (of at least 12 characters, not also found outside the regions)
@@ -261,6 +290,18 @@ mod tests {
 
     /// The catalogue patches the solution's text: an edit to a solution region can silently
     /// break one. Checked here in a second, long before `zoo` or `grader calibrate` build it.
+    #[test]
+    fn the_student_readme_drops_instructor_blocks_and_shows_student_notes() {
+        let text =
+            "a\n<!-- BEGIN INSTRUCTOR -->\nsecret\n<!-- END INSTRUCTOR -->\n<!-- STUDENT\nhello\n-->\nb\n";
+        assert_eq!(student_readme(text).unwrap(), "a\nhello\nb\n");
+        assert!(student_readme("<!-- BEGIN INSTRUCTOR -->\nopen").is_err());
+        let readme = std::fs::read_to_string(repository().join("README.md")).unwrap();
+        let student = student_readme(&readme).unwrap();
+        assert!(!student.contains("reference solution") && !student.contains("cargo xtask"), "{student}");
+        assert!(student.contains("Your tasks are the `todo!("));
+    }
+
     #[test]
     fn every_catalogue_patch_applies_to_the_current_solution() {
         let variants = VariantFile::load(&repository().join("checkpoints/variants.toml")).unwrap().variants;
