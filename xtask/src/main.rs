@@ -43,9 +43,20 @@ enum Command {
     Zoo,
 }
 
-/// Left out of the starter: build output, version control, and instructor-only material.
-const INSTRUCTOR_ONLY: [&str; 7] =
-    [".git", "target", "out", "xtask", ".cargo", "checkpoints/variants.toml", "docs/CALIBRATION.md"];
+/// Left out of the starter: build output, version control, and instructor-only material (the
+/// generator, the mistake catalogue and what it measured, and the instructor's CI, which runs
+/// them).
+const INSTRUCTOR_ONLY: [&str; 9] = [
+    ".git",
+    "target",
+    "out",
+    "xtask",
+    ".cargo",
+    ".ci",
+    "checkpoints/variants.toml",
+    "docs/CALIBRATION.md",
+    "docs/ZOO.md",
+];
 
 const CHECKPOINTS: [u32; 7] = [1, 2, 3, 4, 5, 6, 7];
 
