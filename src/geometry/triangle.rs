@@ -195,6 +195,26 @@ mod checkpoint2 {
         ray.t_min = 1.001;
         ray.t_max = f32::INFINITY;
         assert!(intersect_triangle(&ray, p0, p1, p2).is_none(), "before t_min");
+        // The hit is at t = 1 exactly (every value above is exact in f32): the window is open, so
+        // a hit exactly at either end does not count.
+        ray.t_min = 1.0;
+        assert!(intersect_triangle(&ray, p0, p1, p2).is_none(), "exactly at t_min");
+        ray.t_min = 0.0;
+        ray.t_max = 1.0;
+        assert!(intersect_triangle(&ray, p0, p1, p2).is_none(), "exactly at t_max");
+    }
+
+    #[test]
+    fn points_exactly_on_edges_and_vertices_hit() {
+        // On the unit triangle seen straight down, b1 = x and b2 = y, and Möller-Trumbore computes
+        // them exactly in f32 here: these are b2 = 0, b1 = 0 and b1 + b2 = 1 (the three edges),
+        // and the three vertices. Edges are inside, so all must hit.
+        let (p0, p1, p2) = unit_triangle();
+        for (x, y) in [(0.5, 0.0), (0.0, 0.5), (0.5, 0.5), (0.25, 0.75), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] {
+            let hit = intersect_triangle(&ray_down_at(x, y), p0, p1, p2)
+                .unwrap_or_else(|| panic!("({x}, {y}) is on the boundary: a hit"));
+            assert!((hit.b1 - x).abs() < 1e-6 && (hit.b2 - y).abs() < 1e-6, "({x}, {y}): {hit:?}");
+        }
     }
 
     #[test]
