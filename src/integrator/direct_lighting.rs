@@ -186,10 +186,8 @@ mod checkpoint6 {
         let (along_x, along_z) = (m.transform_vector3(Vec3::X), m.transform_vector3(Vec3::Z));
         let n = along_z.cross(along_x).normalize(); // the quad faces +y: z × x = y
         let light = centre + 2.0 * n;
-        let floor = format!(
-            "[[objects]]\nshape = \"quad\"\nmaterial = \"floor\"\ntranslate = [1000, 1000, 1000]\n\
-             rotate = [25, 0, 15]\nscale = [20, 1, 20]\n"
-        );
+        let floor = "[[objects]]\nshape = \"quad\"\nmaterial = \"floor\"\ntranslate = [1000, 1000, 1000]\n\
+                     rotate = [25, 0, 15]\nscale = [20, 1, 20]\n";
         let scene = floor_scene(&format!("{}{floor}", light_at(light.x, light.y, light.z, 4.0)));
         let world = World::new(&scene, SplitMethod::ObjectMedian);
         for i in 0..400 {
