@@ -61,6 +61,31 @@ mod checkpoint7 {
     }
 
     #[test]
+    fn every_part_of_the_pixel_is_sampled_evenly() {
+        // Radiance 1 on the two off-diagonal quarters of the pixel, 0 on the diagonal quarters
+        // and outside the pixel: the pixel's mean is exactly 1/2. One estimate from spp samples
+        // has a standard deviation of at most 0.5 / sqrt(spp) (unstratified; strata only lower
+        // it), so the mean of 4096 estimates lands within 5 standard errors of 1/2. Samples
+        // confined to some strata, or leaving the pixel, land far outside.
+        let pixels = 4096;
+        for spp in [16, 5] {
+            let mut total = 0.0;
+            for p in 0..pixels {
+                let pixel = UVec2::new(p % 64, p / 64);
+                let off_diagonal = |film: Vec2| {
+                    let local = film - pixel.as_vec2();
+                    let inside = local.cmpge(Vec2::ZERO).all() && local.cmplt(Vec2::ONE).all();
+                    Vec3::splat(if inside && ((local.x < 0.5) != (local.y < 0.5)) { 1.0 } else { 0.0 })
+                };
+                total += estimate_pixel(pixel, spp, &mut Rng::for_pixel(3, p as u64), off_diagonal).x as f64;
+            }
+            let mean = total / pixels as f64;
+            let five_sigma = 5.0 * 0.5 / (spp as f64).sqrt() / (pixels as f64).sqrt();
+            assert!((mean - 0.5).abs() < five_sigma, "spp {spp}: mean {mean}, 5 sigma {five_sigma}");
+        }
+    }
+
+    #[test]
     fn samples_stay_inside_their_pixel_and_are_averaged() {
         let mut rng = Rng::for_pixel(1, 0);
         let mut count = 0;
