@@ -24,11 +24,9 @@
 
 #![warn(missing_docs)]
 
-pub mod bench;
 pub mod camera;
 pub mod film;
 pub mod geometry;
-pub mod grade;
 pub mod image_io;
 pub mod integrator;
 pub mod light;

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Makes tests/data/ssim/: image pairs and their SSIM by scikit-image, the oracle raylab's SSIM
+"""Makes grade/tests/data/ssim/: image pairs and their SSIM by scikit-image, the oracle raylab's SSIM
 is pinned to (tests/grader_ssim.rs). CI does not run this; it reads what this wrote.
 
     pip install scikit-image pillow && python3 tools/ssim_expected.py

@@ -6,7 +6,7 @@
 //! catalogue and writes which check catches each mistake.
 //!
 //! The starter is the whole repository with every solution region replaced by its stub
-//! (`todo!("checkpoint N: ...")`, see `raylab::grade::stub`), and without what only instructors
+//! (`todo!("checkpoint N: ...")`, see `raylab_grade::stub`), and without what only instructors
 //! need: this generator, the mistake catalogue (`checkpoints/variants.toml`) and its calibration
 //! table. It then checks that no line of any solution survives in the starter.
 
@@ -17,10 +17,10 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use std::time::Duration;
 
-use raylab::grade::calibrate::{build, grade_images};
-use raylab::grade::stub::region_bodies;
-use raylab::grade::unit_tests::{build_tests, run_filter};
-use raylab::grade::variants::{check_patches, copy_tree, make_scratch_tree, stub_tree, Variant, VariantFile};
+use raylab_grade::calibrate::grade_images;
+use raylab_grade::stub::region_bodies;
+use raylab_grade::unit_tests::{build_tests, run_filter};
+use raylab_grade::variants::{check_patches, make_scratch_tree, stub_tree, Variant, VariantFile};
 
 #[derive(Parser)]
 #[command(about = "raylab's instructor tasks")]
@@ -43,20 +43,29 @@ enum Command {
     Zoo,
 }
 
-/// Left out of the starter: build output, version control, and instructor-only material (the
-/// generator, the mistake catalogue and what it measured, and the instructor's CI, which runs
-/// them).
+/// Left out of the starter: instructor-only material (this generator, the benchmarks, the
+/// mistake catalogue and what it measured, and the instructor's CI, which runs them). Paths are
+/// relative to the repository; a folder leaves out everything below it.
 const INSTRUCTOR_ONLY: [&str; 9] = [
-    ".git",
-    "target",
-    "out",
     "xtask",
-    ".cargo",
+    "bench",
     ".ci",
     "checkpoints/variants.toml",
     "docs/CALIBRATION.md",
     "docs/ZOO.md",
+    "docs/PERFORMANCE.md",
+    "grade/tests",
+    "tools",
 ];
+
+/// The workspace section of the starter's `Cargo.toml`: the renderer and the grader only, in a
+/// workspace of its own, so the starter builds wherever it is unpacked.
+const STARTER_WORKSPACE: &str =
+    "# The root package is the renderer, what you read and edit; `grade/` is the grader that gives
+# you feedback (`cargo grader`). `cargo test` at the root builds and tests the renderer alone.
+[workspace]
+members = [\"grade\"]
+";
 
 const CHECKPOINTS: [u32; 7] = [1, 2, 3, 4, 5, 6, 7];
 
@@ -87,25 +96,59 @@ fn starter(out: &Path) -> Result<(), String> {
     if out.exists() {
         std::fs::remove_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     }
-    copy_tree(root, out, &INSTRUCTOR_ONLY).map_err(|e| format!("copying to {}: {e}", out.display()))?;
-    let manifest = out.join("Cargo.toml");
-    let text = std::fs::read_to_string(&manifest).map_err(|e| format!("{}: {e}", manifest.display()))?;
-    let package = text.split("\n# The instructor's tasks").next().unwrap_or(&text).trim_end();
-    // A workspace of its own (without xtask), so the starter builds wherever it is unpacked, even
-    // inside another checkout's folder.
-    let own_workspace =
-        "\n\n# A workspace of its own: the starter builds wherever it is unpacked.\n[workspace]\n";
-    std::fs::write(&manifest, format!("{package}{own_workspace}"))
-        .map_err(|e| format!("{}: {e}", manifest.display()))?;
-    let readme = out.join("README.md");
-    let text = std::fs::read_to_string(&readme).map_err(|e| format!("{}: {e}", readme.display()))?;
-    std::fs::write(&readme, student_readme(&text)?).map_err(|e| format!("{}: {e}", readme.display()))?;
+    for file in starter_files(root)? {
+        let to = out.join(&file);
+        std::fs::create_dir_all(to.parent().unwrap_or(out)).map_err(|e| format!("{}: {e}", to.display()))?;
+        std::fs::copy(root.join(&file), &to).map_err(|e| format!("{}: {e}", file.display()))?;
+    }
+    let edit = |file: &str, change: &dyn Fn(&str) -> Result<String, String>| {
+        let path = out.join(file);
+        let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(&path, change(&text)?).map_err(|e| format!("{}: {e}", path.display()))
+    };
+    edit("Cargo.toml", &|text| {
+        let package = text.split("\n# Crates by audience.").next().unwrap_or(text).trim_end();
+        let shared = text.find("[workspace.package]").map_or("", |i| &text[i..]);
+        Ok(format!("{package}\n\n{STARTER_WORKSPACE}\n{shared}"))
+    })?;
+    edit(".cargo/config.toml", &|text| {
+        Ok(text.lines().filter(|l| !l.starts_with("xtask")).map(|l| format!("{l}\n")).collect())
+    })?;
+    edit("README.md", &student_readme)?;
     stub_tree(&out.join("src"), &CHECKPOINTS).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
     let survivors = surviving_solution_lines(&root.join("src"), &out.join("src"))?;
     if !survivors.is_empty() {
         return Err(format!("solution lines survive in the starter: {survivors:?}"));
     }
     Ok(())
+}
+
+/// The files the starter takes: those under version control (`git ls-files`, so nothing the
+/// working folder happens to hold, such as renders or reports, reaches students), without the
+/// instructor-only ones.
+fn starter_files(root: &Path) -> Result<Vec<PathBuf>, String> {
+    let out = std::process::Command::new("git")
+        .arg("-C")
+        .arg(root)
+        .args(["ls-files", "-z", "--cached"])
+        .output()
+        .map_err(|e| format!("cannot run git: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "git ls-files in {}: {}",
+            root.display(),
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    let listed =
+        String::from_utf8(out.stdout).map_err(|_| "git ls-files: a path is not UTF-8".to_string())?;
+    let instructor_only = |file: &Path| INSTRUCTOR_ONLY.iter().any(|p| file.starts_with(p));
+    Ok(listed
+        .split('\0')
+        .filter(|f| !f.is_empty())
+        .map(PathBuf::from)
+        .filter(|f| !instructor_only(f) && root.join(f).is_file())
+        .collect())
 }
 
 /// The README as students see it: blocks between `<!-- BEGIN INSTRUCTOR -->` and
@@ -173,9 +216,8 @@ fn rust_files(dir: &Path) -> Result<Vec<String>, String> {
 /// test filters of that checkpoint and the ones before it.
 fn stub_matrix() -> Result<(), String> {
     let work = repository().join("target/stub-matrix");
-    let tree = work.join("tree");
-    // Children inherit it: cargo then reuses the dependencies built for earlier checkpoints.
-    std::env::set_var("CARGO_TARGET_DIR", work.join("target"));
+    // One target folder for every stub: cargo then reuses the dependencies built for earlier ones.
+    let (tree, target) = (work.join("tree"), work.join("target"));
     let mut problems = Vec::new();
     for n in 2..=7 {
         let variant = Variant {
@@ -189,11 +231,11 @@ fn stub_matrix() -> Result<(), String> {
             patches: Vec::new(),
         };
         make_scratch_tree(repository(), &tree, &variant)?;
-        build_tests(&tree, Duration::from_secs(900))
+        build_tests(&tree, Some(&target), Duration::from_secs(900))
             .map_err(|e| format!("stub {n}: the tests do not build: {e}"))?;
         let mut row = format!("checkpoint {n} stubbed:");
         for m in 1..=n {
-            let run = run_filter(&tree, &format!("checkpoint{m}"), Duration::from_secs(300));
+            let run = run_filter(&tree, Some(&target), &format!("checkpoint{m}"), Duration::from_secs(300));
             row += &format!("  {m}: {}/{}", run.passed, run.passed + run.failed);
             let ok = if m < n {
                 run.error.is_none() && run.failed == 0 && run.passed > 0
@@ -225,8 +267,7 @@ fn zoo() -> Result<(), String> {
     let root = repository();
     let work = root.join("target/zoo");
     let (tree, target) = (work.join("tree"), work.join("target"));
-    std::env::set_var("CARGO_TARGET_DIR", &target);
-    let rubric = raylab::grade::rubric::Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let rubric = raylab_grade::rubric::Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
     let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
     check_patches(root, &variants)?;
     let mut rows = vec![
@@ -239,13 +280,13 @@ fn zoo() -> Result<(), String> {
         // A correct alternative must pass every checkpoint's tests (`checkpoint` matches them all;
         // the harness's own snapshots describe the reference solution and may differ).
         let filter = if v.correct { "checkpoint".to_string() } else { format!("checkpoint{}", v.checkpoint) };
-        let tests = match build_tests(&tree, Duration::from_secs(900)) {
-            Ok(()) => run_filter(&tree, &filter, Duration::from_secs(300)),
+        let tests = match build_tests(&tree, Some(&target), Duration::from_secs(900)) {
+            Ok(()) => run_filter(&tree, Some(&target), &filter, Duration::from_secs(300)),
             Err(e) => return Err(format!("{}: does not build: {e}", v.name)),
         };
         let failing_tests: Vec<String> =
             tests.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f).to_string()).collect();
-        let values = build(&tree, &target).and_then(|exe| grade_images(&exe, &tree, None, &work))?;
+        let values = grade_images(&tree, &target, None)?;
         let graders_of = |scene: &str| {
             rubric.scenes.iter().find(|s| s.name == scene).map_or(Vec::new(), |s| s.grades.clone())
         };

@@ -1,0 +1,70 @@
+//! Running `cargo` on the tree being graded: building its `render` binary and its checkpoint
+//! tests. The grader never links the graded code; it builds it in child processes and runs what
+//! they make, each under a time limit (see [`crate::child`]).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+use crate::child::{run_with_limit, ChildRun, CHILD_ENV};
+
+/// Compiling a tree may take minutes on a cold machine.
+pub const BUILD_TIME_LIMIT: Duration = Duration::from_secs(900);
+
+/// `cargo ARGS` in `root`, marked as a grader child, with its own target folder if `target` is
+/// given (calibration and the catalogue share one between scratch trees).
+pub fn cargo(root: &Path, target: Option<&Path>, args: &[&str]) -> Command {
+    let mut command = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+    command.current_dir(root).args(args).env(CHILD_ENV, "1");
+    if let Some(target) = target {
+        command.env("CARGO_TARGET_DIR", target);
+    }
+    command
+}
+
+/// The first compiler error of a failed build, or why the build itself went wrong.
+pub fn first_error(run: &ChildRun, limit: Duration) -> String {
+    let error = run.stderr.lines().find(|l| l.starts_with("error")).map(str::to_string);
+    error.unwrap_or_else(|| run.failure_reason(limit))
+}
+
+/// Builds the tree's `render` binary (dev profile, which the checkpoint tests share) and returns
+/// the executable cargo reports; `Err` carries the first compiler error.
+pub fn build_renderer(root: &Path, target: Option<&Path>) -> Result<PathBuf, String> {
+    let args = ["build", "--quiet", "--bin", "render", "--message-format=json-render-diagnostics"];
+    let run = run_with_limit(cargo(root, target, &args), BUILD_TIME_LIMIT)
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
+    if !run.success() {
+        return Err(first_error(&run, BUILD_TIME_LIMIT));
+    }
+    executable(&run.stdout).ok_or_else(|| "cargo built no `render` executable".to_string())
+}
+
+/// The `executable` of the last compiler artifact in cargo's JSON messages.
+fn executable(messages: &str) -> Option<PathBuf> {
+    messages
+        .lines()
+        .rev()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter(|m| m["reason"] == "compiler-artifact")
+        .find_map(|m| m["executable"].as_str().map(PathBuf::from))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_executable_is_read_from_cargos_artifact_messages() {
+        let messages = concat!(
+            r#"{"reason":"compiler-artifact","target":{"name":"raylab"},"executable":null}"#,
+            "\n",
+            r#"{"reason":"compiler-artifact","target":{"name":"render"},"executable":"/t/debug/render"}"#,
+            "\n",
+            r#"{"reason":"build-finished","success":true}"#,
+            "\n"
+        );
+        assert_eq!(executable(messages), Some(PathBuf::from("/t/debug/render")));
+        assert_eq!(executable(r#"{"reason":"build-finished","success":true}"#), None);
+    }
+}

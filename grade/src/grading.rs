@@ -1,0 +1,391 @@
+//! Grading a tree: run each checkpoint's unit tests and render each graded scene in child
+//! processes, score the renders against the references, and combine both into points.
+//!
+//! Grading is a function of (the tree to build and test, its rubric, scenes and references):
+//! everything is found under [`GradeOptions::root`], never the current directory.
+//!
+//! **Who loses a failed scene's points.** A scene carries the image points of every checkpoint it
+//! `grades` (`intersection_test` needs checkpoints 2 to 5). When it fails, the *culprit* is the
+//! lowest of those checkpoints whose unit tests do not all pass: checkpoints before it keep the
+//! scene's points (their own tests pass and the failure is explained), the culprit and those after
+//! it lose them. If every unit test passes, the failure cannot be pinned on one checkpoint and all
+//! of them lose the scene's points.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use image::RgbImage;
+use indicatif::ProgressBar;
+
+use crate::cargo::{build_renderer, BUILD_TIME_LIMIT};
+use crate::child::{run_with_limit, CHILD_ENV};
+use crate::features::Masks;
+use crate::metrics::{Comparison, Measured};
+use crate::reference::{load_reference, Manifest};
+use crate::rubric::{Check, Checkpoint, GradedScene, Rubric};
+use crate::ssim::SsimMap;
+use crate::unit_tests::{build_tests, run_filter, TestRun};
+use raylab::image_io::read_png;
+
+/// A render may take this many times the reference's single-sample render time...
+const TIME_LIMIT_FACTOR: f64 = 20.0;
+/// ...but never less than this: a loaded machine must not fail a correct submission.
+const TIME_LIMIT_FLOOR: Duration = Duration::from_secs(10);
+/// One checkpoint's tests, once built.
+const TEST_TIME_LIMIT: Duration = Duration::from_secs(120);
+
+/// What to grade and how.
+#[derive(Clone, Debug)]
+pub struct GradeOptions {
+    /// The repository: rubric, scenes, references, and the crate whose tests run.
+    pub root: PathBuf,
+    /// Cargo's target folder for the tree's builds (its own `target/` if `None`).
+    pub target: Option<PathBuf>,
+    /// Only these checkpoints (all if `None`).
+    pub checkpoints: Option<Vec<u32>>,
+    /// Only these scenes, by name (all the checkpoints' scenes if `None`).
+    pub scenes: Option<Vec<String>>,
+    /// Run the unit tests (`cargo test`), or grade images only.
+    pub run_tests: bool,
+    /// Render with this seed instead of the rubric's (calibration tries several).
+    pub seed: Option<u64>,
+}
+
+/// The outcome of one graded scene.
+#[derive(Clone, Debug)]
+pub struct SceneResult {
+    /// The scene.
+    pub scene: GradedScene,
+    /// Each check with its value; empty if the render failed.
+    pub checks: Vec<(Check, Measured)>,
+    /// Why the scene scored 0 without checks (crash, time limit, size mismatch).
+    pub error: Option<String>,
+    /// Seconds the render took.
+    pub seconds: f64,
+    /// The student's render, if there is one.
+    pub render: Option<RgbImage>,
+    /// The reference image.
+    pub reference: RgbImage,
+    /// Per-pixel SSIM of render against reference, if both exist.
+    pub ssim: Option<SsimMap>,
+}
+
+impl SceneResult {
+    /// Whether every check passed.
+    pub fn passed(&self) -> bool {
+        self.error.is_none() && self.checks.iter().all(|(_, m)| m.passed)
+    }
+}
+
+/// The outcome for one checkpoint.
+#[derive(Clone, Debug)]
+pub struct CheckpointResult {
+    /// The checkpoint.
+    pub checkpoint: Checkpoint,
+    /// Its unit tests, if they ran.
+    pub tests: Option<TestRun>,
+    /// Points from the unit tests.
+    pub test_score: f64,
+    /// Points from the scenes.
+    pub image_score: f64,
+    /// Why points were lost, one line each.
+    pub reasons: Vec<String>,
+}
+
+impl CheckpointResult {
+    /// Points earned.
+    pub fn score(&self) -> f64 {
+        self.test_score + self.image_score
+    }
+
+    /// Points available (test points only count when the tests ran).
+    pub fn max_score(&self, tests_ran: bool) -> f64 {
+        self.checkpoint.image_points + if tests_ran { self.checkpoint.test_points } else { 0.0 }
+    }
+}
+
+/// A whole grading run.
+#[derive(Clone, Debug)]
+pub struct GradeReport {
+    /// Per scene.
+    pub scenes: Vec<SceneResult>,
+    /// Per checkpoint.
+    pub checkpoints: Vec<CheckpointResult>,
+    /// Whether unit tests ran.
+    pub tests_ran: bool,
+    /// Wall-clock seconds of the whole run.
+    pub seconds: f64,
+}
+
+impl GradeReport {
+    /// Points earned.
+    pub fn score(&self) -> f64 {
+        self.checkpoints.iter().map(CheckpointResult::score).sum()
+    }
+
+    /// Points available.
+    pub fn max_score(&self) -> f64 {
+        self.checkpoints.iter().map(|c| c.max_score(self.tests_ran)).sum()
+    }
+
+    /// Whether every check and test passed.
+    pub fn all_passed(&self) -> bool {
+        (self.score() - self.max_score()).abs() < 1e-9
+    }
+}
+
+impl GradeReport {
+    /// Every scene's check values and verdicts, for calibration: `{scene: {error, checks: {label:
+    /// {value, passed}}}}`.
+    pub fn values(&self) -> serde_json::Value {
+        let scenes = self.scenes.iter().map(|s| {
+            let checks = s
+                .checks
+                .iter()
+                .map(|(c, m)| (c.label(), serde_json::json!({"value": m.value, "passed": m.passed})));
+            let checks: serde_json::Map<String, serde_json::Value> = checks.collect();
+            (
+                s.scene.name.clone(),
+                serde_json::json!({"error": s.error, "passed": s.passed(), "checks": checks}),
+            )
+        });
+        serde_json::Value::Object(scenes.collect())
+    }
+}
+
+/// Grades the tree at `options.root`; `Err` only for bad input (a broken rubric, a missing or
+/// stale reference), never for anything the graded code does.
+pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeReport, String> {
+    if std::env::var_os(CHILD_ENV).is_some() {
+        return Err(format!("refusing to grade inside a grader child ({CHILD_ENV} is set)"));
+    }
+    let start = Instant::now();
+    let root = &options.root;
+    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let checkpoints: Vec<&Checkpoint> = rubric
+        .checkpoints
+        .iter()
+        .filter(|c| options.checkpoints.as_ref().is_none_or(|ids| ids.contains(&c.id)))
+        .collect();
+    let scenes = selected_scenes(&rubric, options, &checkpoints)?;
+    let manifest = Manifest::load(root)?;
+    for scene in &scenes {
+        manifest.fresh_entry(root, scene)?;
+        load_reference(root, scene)?;
+    }
+
+    let test_steps = if options.run_tests { checkpoints.len() + 1 } else { 0 };
+    progress.set_length((test_steps + 1 + scenes.len()) as u64);
+    let target = options.target.as_deref();
+    let tests = options.run_tests.then(|| run_unit_tests(root, target, &checkpoints, progress));
+    progress.set_message("building the renderer");
+    let renderer = build_renderer(root, target).map_err(|e| format!("the renderer does not build: {e}"));
+    progress.inc(1);
+    let mut scene_results = Vec::new();
+    for scene in scenes {
+        progress.set_message(format!("rendering {}", scene.name));
+        let entry = manifest.fresh_entry(root, &scene)?;
+        let limit =
+            TIME_LIMIT_FLOOR.max(Duration::from_secs_f64(TIME_LIMIT_FACTOR * entry.graded_render_seconds));
+        scene_results.push(grade_scene(options, renderer.as_deref(), scene, limit)?);
+        progress.inc(1);
+    }
+    let checkpoint_results = checkpoints
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            score_checkpoint(c, tests.as_ref().map(|t| &t[i]), tests.as_deref(), &checkpoints, &scene_results)
+        })
+        .collect();
+    Ok(GradeReport {
+        scenes: scene_results,
+        checkpoints: checkpoint_results,
+        tests_ran: options.run_tests,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The scenes to render: those named, or those grading a selected checkpoint.
+fn selected_scenes(
+    rubric: &Rubric,
+    options: &GradeOptions,
+    checkpoints: &[&Checkpoint],
+) -> Result<Vec<GradedScene>, String> {
+    if let Some(names) = &options.scenes {
+        return names
+            .iter()
+            .map(|n| {
+                let known = || rubric.scenes.iter().map(|s| s.name.as_str()).collect::<Vec<_>>().join(", ");
+                rubric
+                    .scenes
+                    .iter()
+                    .find(|s| &s.name == n)
+                    .cloned()
+                    .ok_or_else(|| format!("{n}: not a graded scene (graded: {})", known()))
+            })
+            .collect();
+    }
+    let wanted = |s: &&GradedScene| s.grades.iter().any(|g| checkpoints.iter().any(|c| c.id == *g));
+    Ok(rubric.scenes.iter().filter(wanted).cloned().collect())
+}
+
+/// Builds the tests once, then runs each checkpoint's filter.
+fn run_unit_tests(
+    root: &Path,
+    target: Option<&Path>,
+    checkpoints: &[&Checkpoint],
+    progress: &ProgressBar,
+) -> Vec<TestRun> {
+    progress.set_message("compiling the tests");
+    let built = build_tests(root, target, BUILD_TIME_LIMIT);
+    progress.inc(1);
+    checkpoints
+        .iter()
+        .map(|c| {
+            progress.set_message(format!("testing checkpoint {}", c.id));
+            let run = match &built {
+                Ok(()) => run_filter(root, target, &c.test_filter, TEST_TIME_LIMIT),
+                Err(e) => {
+                    TestRun { error: Some(format!("the tests do not compile: {e}")), ..TestRun::default() }
+                }
+            };
+            progress.inc(1);
+            run
+        })
+        .collect()
+}
+
+/// Renders one scene with the tree's `renderer` in a child process and scores it.
+fn grade_scene(
+    options: &GradeOptions,
+    renderer: Result<&Path, &String>,
+    scene: GradedScene,
+    limit: Duration,
+) -> Result<SceneResult, String> {
+    let (reference, masks) = load_reference(&options.root, &scene)?;
+    let out = std::env::temp_dir().join(format!("raylab-grader-{}-{}.png", std::process::id(), scene.name));
+    let seed = options.seed.unwrap_or(scene.seed);
+    let (rendered, seconds) = match renderer {
+        Ok(renderer) => {
+            let mut command = Command::new(renderer);
+            command
+                .env(CHILD_ENV, "1")
+                .arg(options.root.join(&scene.file))
+                .arg("--output")
+                .arg(&out)
+                .arg("--spp")
+                .arg(scene.spp.to_string())
+                .arg("--seed")
+                .arg(seed.to_string());
+            let run = run_with_limit(command, limit)
+                .map_err(|e| format!("cannot start {}: {e}", renderer.display()))?;
+            let rendered = if run.success() {
+                read_png(&out).map_err(|e| e.to_string())
+            } else {
+                Err(run.failure_reason(limit))
+            };
+            (rendered, run.seconds)
+        }
+        Err(e) => (Err(e.to_string()), 0.0),
+    };
+    let _ = std::fs::remove_file(&out);
+    let mut result =
+        SceneResult { scene, checks: Vec::new(), error: None, seconds, render: None, reference, ssim: None };
+    match rendered.and_then(|render| score(&result.scene, render, &result.reference, &masks)) {
+        Ok((render, checks, ssim)) => {
+            result.render = Some(render);
+            result.checks = checks;
+            result.ssim = Some(ssim);
+        }
+        Err(e) => result.error = Some(e),
+    }
+    Ok(result)
+}
+
+type Scored = (RgbImage, Vec<(Check, Measured)>, SsimMap);
+
+fn score(
+    scene: &GradedScene,
+    render: RgbImage,
+    reference: &RgbImage,
+    masks: &Masks,
+) -> Result<Scored, String> {
+    let comparison = Comparison::new(&render, reference, masks)?;
+    let checks = scene.checks.iter().map(|c| (c.clone(), comparison.measure(c))).collect();
+    let ssim = comparison.ssim().clone();
+    Ok((render, checks, ssim))
+}
+
+/// Test points by the fraction passed; image points by the culprit rule (module docs).
+fn score_checkpoint(
+    checkpoint: &Checkpoint,
+    tests: Option<&TestRun>,
+    all_tests: Option<&[TestRun]>,
+    checkpoints: &[&Checkpoint],
+    scenes: &[SceneResult],
+) -> CheckpointResult {
+    let mut reasons = Vec::new();
+    let test_score = tests.map_or(0.0, |t| {
+        if let Some(e) = &t.error {
+            reasons.push(format!("unit tests: {e}"));
+        } else if t.failed > 0 {
+            // The test's own name reads as a sentence; its module path is the checkpoint's.
+            let names: Vec<&str> = t.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f)).collect();
+            reasons.push(format!(
+                "unit tests: {} of {} failed: {}",
+                t.failed,
+                t.passed + t.failed,
+                names.join(", ")
+            ));
+        } else if t.passed == 0 {
+            reasons.push(format!("unit tests: `cargo test {}` ran no test", checkpoint.test_filter));
+        }
+        checkpoint.test_points * t.fraction()
+    });
+    let tests_pass = |id: u32| {
+        let i = checkpoints.iter().position(|c| c.id == id);
+        match (all_tests, i) {
+            (Some(all), Some(i)) => all[i].fraction() == 1.0,
+            _ => true,
+        }
+    };
+    let mine: Vec<&SceneResult> = scenes.iter().filter(|s| s.scene.grades.contains(&checkpoint.id)).collect();
+    let mut kept = 0usize;
+    for s in &mine {
+        if s.passed() {
+            kept += 1;
+            continue;
+        }
+        let culprit = s.scene.grades.iter().copied().filter(|&g| !tests_pass(g)).min();
+        let why = s.error.clone().unwrap_or_else(|| failed_checks(s));
+        match culprit {
+            Some(c) if c > checkpoint.id => kept += 1,
+            Some(c) if c < checkpoint.id => reasons.push(format!(
+                "scene {}: failed, and it needs checkpoint {c}, whose tests fail ({why})",
+                s.scene.name
+            )),
+            _ => reasons.push(format!("scene {}: {why}", s.scene.name)),
+        }
+    }
+    let image_score =
+        if mine.is_empty() { 0.0 } else { checkpoint.image_points * kept as f64 / mine.len() as f64 };
+    CheckpointResult {
+        checkpoint: checkpoint.clone(),
+        tests: tests.cloned(),
+        test_score,
+        image_score,
+        reasons,
+    }
+}
+
+/// "ssim 0.912 < 0.990, ..." for the checks that failed.
+fn failed_checks(s: &SceneResult) -> String {
+    let failed: Vec<String> = s
+        .checks
+        .iter()
+        .filter(|(_, m)| !m.passed)
+        .map(|(c, m)| format!("{} {:.4} {}", c.label(), m.value, c.threshold_text()))
+        .collect();
+    failed.join(", ")
+}

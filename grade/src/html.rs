@@ -1,0 +1,118 @@
+//! The HTML report: one self-contained page (images embedded as data URLs) with, per scene, the
+//! reference, the student's render and the difference heat map side by side, the checks, and the
+//! hint and handout of every checkpoint that lost points.
+
+use std::fmt::Write;
+
+use base64::Engine;
+use image::RgbImage;
+
+use crate::grading::{GradeReport, SceneResult};
+use crate::heatmap::heatmap;
+use crate::report::hint_text;
+
+const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background:#fafafa;color:#222}\
+table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\
+.pass{color:#176f2c;font-weight:bold}.fail{color:#b3261e;font-weight:bold}\
+.images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}img{width:256px;image-rendering:pixelated;border:1px solid #ccc}\
+td:last-child{max-width:60em;overflow-wrap:anywhere}.missing{width:256px;height:256px;background:#eee;display:flex;align-items:center;justify-content:center;color:#777}\
+section{background:#fff;padding:1em 1.5em;margin:1.5em 0;border-radius:6px;box-shadow:0 1px 3px #0002}\
+.hint{background:#fff6d5;padding:.5em 1em;border-left:4px solid #e0b400}";
+
+/// The page for `report`.
+pub fn page(report: &GradeReport) -> String {
+    let mut h = String::new();
+    let _ = write!(h, "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>raylab grade: {:.1} / {:.0}</title><style>{STYLE}</style></head><body>\n",
+        report.score(), report.max_score());
+    let _ = writeln!(h, "<h1>raylab: {:.1} / {:.0} points</h1>", report.score(), report.max_score());
+    let _ = writeln!(h, "<table class=\"checkpoints\"><tr><th>#</th><th>checkpoint</th><th>tests</th><th>images</th><th>points</th><th>why points were lost</th></tr>");
+    for c in &report.checkpoints {
+        let tests =
+            c.tests.as_ref().map_or("-".to_string(), |t| format!("{}/{}", t.passed, t.passed + t.failed));
+        let images = if c.checkpoint.image_points > 0.0 {
+            format!("{:.1}/{:.0}", c.image_score, c.checkpoint.image_points)
+        } else {
+            "-".to_string()
+        };
+        let class = if c.reasons.is_empty() { "pass" } else { "fail" };
+        let reasons: Vec<String> = c.reasons.iter().map(|r| escape(r)).collect();
+        let hint = if c.reasons.is_empty() {
+            String::new()
+        } else {
+            format!("<p class=\"hint\">{}</p>", escape(&hint_text(&c.checkpoint)))
+        };
+        let _ = writeln!(h, "<tr><td>{}</td><td>{}</td><td>{tests}</td><td>{images}</td><td class=\"{class}\">{:.1}/{:.0}</td><td>{}{hint}</td></tr>",
+            c.checkpoint.id, escape(&c.checkpoint.title), c.score(), c.max_score(report.tests_ran), reasons.join("<br>"));
+    }
+    h.push_str("</table>\n");
+    for s in &report.scenes {
+        scene_section(&mut h, s, report);
+    }
+    h.push_str("</body></html>\n");
+    h
+}
+
+fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
+    let (class, word) = if s.passed() { ("pass", "pass") } else { ("fail", "FAIL") };
+    let grades: Vec<String> = s.scene.grades.iter().map(u32::to_string).collect();
+    let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}; rendered in {2:.1} s</p>",
+        escape(&s.scene.name), grades.join(", "), s.seconds);
+    h.push_str("<div class=\"images\">");
+    figure(h, "reference", Some(&s.reference));
+    figure(h, "yours", s.render.as_ref());
+    let diff = s.ssim.as_ref().map(|ssim| heatmap(ssim, &s.reference));
+    figure(h, "difference (1 − SSIM: black same, yellow very different)", diff.as_ref());
+    h.push_str("</div>\n");
+    if let Some(e) = &s.error {
+        let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(e));
+    }
+    h.push_str(
+        "<table class=\"checks\"><tr><th>check</th><th>value</th><th>threshold</th><th>result</th></tr>",
+    );
+    for (check, m) in &s.checks {
+        let (class, word) = if m.passed { ("pass", "pass") } else { ("fail", "FAIL") };
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td>{:.4}</td><td>{}</td><td class=\"{class}\">{word}</td></tr>",
+            check.label(),
+            m.value,
+            escape(&check.threshold_text())
+        );
+    }
+    h.push_str("</table>\n");
+    for c in report
+        .checkpoints
+        .iter()
+        .filter(|c| !s.passed() && s.scene.grades.contains(&c.checkpoint.id) && !c.reasons.is_empty())
+    {
+        let _ = writeln!(
+            h,
+            "<p class=\"hint\">Checkpoint {}: {}</p>",
+            c.checkpoint.id,
+            escape(&hint_text(&c.checkpoint))
+        );
+    }
+    h.push_str("</section>\n");
+}
+
+fn figure(h: &mut String, caption: &str, image: Option<&RgbImage>) {
+    let img = match image.and_then(|i| png_data_url(i).ok()) {
+        Some(url) => format!("<img alt=\"{}\" src=\"{url}\">", escape(caption)),
+        None => "<div class=\"missing\">no image</div>".to_string(),
+    };
+    let _ = write!(h, "<figure>{img}<figcaption>{}</figcaption></figure>", escape(caption));
+}
+
+fn png_data_url(image: &RgbImage) -> Result<String, image::ImageError> {
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image.write_to(&mut bytes, image::ImageFormat::Png)?;
+    Ok(format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(bytes.into_inner())
+    ))
+}
+
+/// Escapes text for HTML.
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}

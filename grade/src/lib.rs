@@ -1,0 +1,21 @@
+//! Grading: scoring renders against reference images, per checkpoint.
+//!
+//! The grader only calls raylab's public rendering API; nothing in the renderer knows it exists.
+//! [`rubric`] says what is graded, [`reference`] keeps the reference images, [`features`] the masks
+//! made with them, [`ssim`] and [`metrics`] score a render.
+
+pub mod calibrate;
+pub mod cargo;
+pub mod child;
+pub mod features;
+pub mod grading;
+pub mod heatmap;
+pub mod html;
+pub mod metrics;
+pub mod reference;
+pub mod report;
+pub mod rubric;
+pub mod ssim;
+pub mod stub;
+pub mod unit_tests;
+pub mod variants;

@@ -1,0 +1,186 @@
+//! Reference images and their manifest: how each was made, so a stale one is caught.
+//!
+//! `reference/manifest.toml` records, per graded scene, a hash of the scene file and every mesh it
+//! reads, the spp and seed, the raylab version and the render time. Grading refuses (exit 2) a
+//! reference whose scene or meshes changed since, rather than mis-grading against it.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use indicatif::ProgressBar;
+use serde::{Deserialize, Serialize};
+
+use crate::features::Masks;
+use crate::rubric::{GradedScene, Rubric};
+use raylab::geometry::SplitMethod;
+use raylab::image_io::{film_to_image, read_png, write_file_atomic, write_png};
+use raylab::scene::{Scene, World};
+
+/// `reference/manifest.toml`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    /// One entry per graded scene.
+    #[serde(rename = "reference", default)]
+    pub references: Vec<ReferenceEntry>,
+}
+
+/// How one reference image was made.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceEntry {
+    /// The graded scene's name.
+    pub name: String,
+    /// FNV-1a 64 of the scene file and the meshes it reads, in order, as hex.
+    pub inputs_hash: String,
+    /// Samples per pixel of the reference.
+    pub spp: u32,
+    /// Seed of the reference.
+    pub seed: u64,
+    /// raylab's version when it was made.
+    pub raylab_version: String,
+    /// Seconds the reference render took (in process, all threads).
+    pub render_seconds: f64,
+    /// Seconds a single-sample render took: the base of the grader's time limit.
+    pub graded_render_seconds: f64,
+}
+
+/// The reference folder under `root`.
+pub fn reference_dir(root: &Path) -> PathBuf {
+    root.join("reference")
+}
+
+/// The reference image of a scene.
+pub fn image_path(root: &Path, scene: &GradedScene) -> PathBuf {
+    reference_dir(root).join(format!("{}.png", scene.name))
+}
+
+/// The feature masks of a scene.
+pub fn masks_path(root: &Path, scene: &GradedScene) -> PathBuf {
+    reference_dir(root).join(format!("{}.masks.png", scene.name))
+}
+
+/// 64-bit FNV-1a: a small, fixed, well-known hash; enough to notice an edited file.
+fn fnv1a(bytes: &[u8], mut hash: u64) -> u64 {
+    for &b in bytes {
+        hash ^= b as u64;
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    hash
+}
+
+/// The hash of a scene file and every mesh file it names, in order.
+pub fn inputs_hash(scene_file: &Path) -> Result<String, String> {
+    let read = |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
+    let text = read(scene_file)?;
+    let mut hash = fnv1a(&text, 0xcbf2_9ce4_8422_2325);
+    let desc: raylab::scene::desc::SceneDesc = toml::from_str(&String::from_utf8_lossy(&text))
+        .map_err(|e| format!("{}: {}", scene_file.display(), e.message()))?;
+    for file in desc.objects.iter().filter_map(|o| o.file.as_ref()) {
+        let mesh = scene_file.parent().unwrap_or(Path::new("")).join(file.get_ref());
+        hash = fnv1a(&read(&mesh)?, hash);
+    }
+    Ok(format!("{hash:016x}"))
+}
+
+impl Manifest {
+    /// Reads `reference/manifest.toml`.
+    pub fn load(root: &Path) -> Result<Manifest, String> {
+        let path = reference_dir(root).join("manifest.toml");
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| format!("{}: cannot read ({e}); run `grader update-references`", path.display()))?;
+        toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))
+    }
+
+    /// The entry of a scene, checked against the scene's files and the rubric's spp and seed.
+    pub fn fresh_entry(&self, root: &Path, scene: &GradedScene) -> Result<&ReferenceEntry, String> {
+        let stale = |why: &str| {
+            format!("reference/{}.png is stale: {why}; run `grader update-references`", scene.name)
+        };
+        let entry = self
+            .references
+            .iter()
+            .find(|r| r.name == scene.name)
+            .ok_or_else(|| stale("not in the manifest"))?;
+        if entry.inputs_hash != inputs_hash(&root.join(&scene.file))? {
+            return Err(stale(&format!("{} or its meshes changed since it was made", scene.file.display())));
+        }
+        if entry.spp != scene.reference_spp || entry.seed != scene.seed {
+            return Err(stale("the rubric's reference_spp or seed changed"));
+        }
+        Ok(entry)
+    }
+}
+
+/// Renders a graded scene in this process at `spp` with the rubric's seed.
+pub fn render_scene(
+    root: &Path,
+    scene: &GradedScene,
+    spp: u32,
+) -> Result<(Scene, raylab::film::Film), String> {
+    let loaded = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?;
+    let mut settings = loaded.settings;
+    settings.spp = spp;
+    settings.seed = scene.seed;
+    let world = World::new(&loaded, SplitMethod::ObjectMedian);
+    let film = raylab::render::render(&world, &settings, &ProgressBar::hidden());
+    Ok((loaded, film))
+}
+
+/// Re-renders every reference image and mask and rewrites the manifest (the instructor's
+/// command; it must run on the reference solution).
+pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -> Result<Manifest, String> {
+    std::fs::create_dir_all(reference_dir(root)).map_err(|e| format!("reference/: {e}"))?;
+    let mut manifest = Manifest::default();
+    for scene in &rubric.scenes {
+        progress.set_message(scene.name.clone());
+        let start = Instant::now();
+        let (loaded, film) = render_scene(root, scene, scene.reference_spp)?;
+        let render_seconds = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        render_scene(root, scene, scene.spp)?;
+        let graded_render_seconds = start.elapsed().as_secs_f64();
+        write_png(&image_path(root, scene), &film_to_image(&film)).map_err(|e| e.to_string())?;
+        let masks = Masks::render(&World::new(&loaded, SplitMethod::ObjectMedian));
+        write_png(&masks_path(root, scene), masks.image()).map_err(|e| e.to_string())?;
+        manifest.references.push(ReferenceEntry {
+            name: scene.name.clone(),
+            inputs_hash: inputs_hash(&root.join(&scene.file))?,
+            spp: scene.reference_spp,
+            seed: scene.seed,
+            raylab_version: env!("CARGO_PKG_VERSION").to_string(),
+            render_seconds: (render_seconds * 1000.0).round() / 1000.0,
+            graded_render_seconds: (graded_render_seconds * 1000.0).round() / 1000.0,
+        });
+        progress.inc(1);
+    }
+    let text = toml::to_string_pretty(&manifest).map_err(|e| e.to_string())?;
+    let path = reference_dir(root).join("manifest.toml");
+    let header = "# Written by `grader update-references`; do not edit by hand.\n\n";
+    write_file_atomic(&path, format!("{header}{text}").as_bytes())
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(manifest)
+}
+
+/// The reference image and masks of a scene, checked to be of the scene's film size.
+pub fn load_reference(root: &Path, scene: &GradedScene) -> Result<(image::RgbImage, Masks), String> {
+    let image = read_png(&image_path(root, scene)).map_err(|e| e.to_string())?;
+    let masks = read_png(&masks_path(root, scene)).map_err(|e| e.to_string())?;
+    let camera = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?.camera;
+    let film = (camera.width(), camera.height());
+    for (path, size) in
+        [(image_path(root, scene), image.dimensions()), (masks_path(root, scene), masks.dimensions())]
+    {
+        if size != film {
+            return Err(format!(
+                "{}: the image is {}x{} but the scene renders {}x{}; run `grader update-references`",
+                path.display(),
+                size.0,
+                size.1,
+                film.0,
+                film.1
+            ));
+        }
+    }
+    Ok((image, Masks::from_image(masks)))
+}

@@ -1,0 +1,153 @@
+//! Reports of a grading run: the text table, Gradescope's `results.json`, and the pictures.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use serde_json::json;
+
+use crate::grading::GradeReport;
+use crate::heatmap::heatmap;
+use crate::rubric::Checkpoint;
+use raylab::image_io::write_png;
+
+/// The table a person reads: per scene, every check; then per checkpoint, the points and why
+/// points were lost, with the handout to read.
+pub fn text(report: &GradeReport) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<18} {:<8} {:<22} {:>8} {:>10}  {:<6} {:>6}",
+        "scene", "grades", "check", "value", "threshold", "result", "time"
+    );
+    for s in &report.scenes {
+        let grades = s.scene.grades.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
+        let time = format!("{:.1}s", s.seconds);
+        if let Some(e) = &s.error {
+            let _ = writeln!(
+                out,
+                "{:<18} {:<8} {:<22} {:>8} {:>10}  {:<6} {:>6}",
+                s.scene.name, grades, "render", "-", "-", "FAIL", time
+            );
+            let _ = writeln!(out, "{:<18} {e}", "");
+            continue;
+        }
+        for (i, (check, m)) in s.checks.iter().enumerate() {
+            let (name, grades, time) =
+                if i == 0 { (s.scene.name.as_str(), grades.as_str(), time.as_str()) } else { ("", "", "") };
+            let result = if m.passed { "pass" } else { "FAIL" };
+            let _ = writeln!(
+                out,
+                "{name:<18} {grades:<8} {:<22} {:>8.4} {:>10}  {result:<6} {time:>6}",
+                check.label(),
+                m.value,
+                check.threshold_text()
+            );
+        }
+    }
+    let _ = writeln!(out);
+    let _ = writeln!(out, "{:<3} {:<44} {:>9} {:>9} {:>11}", "#", "checkpoint", "tests", "images", "points");
+    for c in &report.checkpoints {
+        let tests = match &c.tests {
+            Some(t) if t.error.is_none() => format!("{}/{}", t.passed, t.passed + t.failed),
+            Some(_) => "error".to_string(),
+            None => "-".to_string(),
+        };
+        let images = if c.checkpoint.image_points > 0.0 {
+            format!("{:.1}/{:.0}", c.image_score, c.checkpoint.image_points)
+        } else {
+            "-".to_string()
+        };
+        let points = format!("{:.1}/{:.0}", c.score(), c.max_score(report.tests_ran));
+        let _ = writeln!(
+            out,
+            "{:<3} {:<44} {tests:>9} {images:>9} {points:>11}",
+            c.checkpoint.id, c.checkpoint.title
+        );
+        for reason in &c.reasons {
+            let _ = writeln!(out, "      - {reason}");
+        }
+        if !c.reasons.is_empty() {
+            let _ = writeln!(out, "      hint: {}", hint_text(&c.checkpoint));
+        }
+    }
+    let _ = writeln!(
+        out,
+        "\ntotal: {:.1} / {:.0} points in {:.1} s{}",
+        report.score(),
+        report.max_score(),
+        report.seconds,
+        if report.tests_ran { "" } else { " (images only: unit tests not run)" }
+    );
+    out
+}
+
+/// Gradescope's `results.json`: `score`, `execution_time`, `output`, and one test entry per
+/// checkpoint part (unit tests, images) with `name`, `number`, `score`, `max_score`, `status`,
+/// `output`, `visibility`.
+pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
+    let mut tests = Vec::new();
+    for c in &report.checkpoints {
+        let id = c.checkpoint.id;
+        let output = if c.reasons.is_empty() {
+            "All checks passed.".to_string()
+        } else {
+            format!("{}\nHint: {}", c.reasons.join("\n"), hint_text(&c.checkpoint))
+        };
+        let mut part = |number: &str, name: String, score: f64, max: f64| {
+            let status = if (score - max).abs() < 1e-9 { "passed" } else { "failed" };
+            tests.push(json!({
+                "name": name, "number": number, "score": round2(score), "max_score": max,
+                "status": status, "output": output, "visibility": "visible",
+            }));
+        };
+        if report.tests_ran && c.checkpoint.test_points > 0.0 {
+            part(
+                &format!("{id}.1"),
+                format!("Checkpoint {id}: {}: unit tests", c.checkpoint.title),
+                c.test_score,
+                c.checkpoint.test_points,
+            );
+        }
+        if c.checkpoint.image_points > 0.0 {
+            part(
+                &format!("{id}.2"),
+                format!("Checkpoint {id}: {}: images", c.checkpoint.title),
+                c.image_score,
+                c.checkpoint.image_points,
+            );
+        }
+    }
+    json!({
+        "score": round2(report.score()),
+        "execution_time": report.seconds.round() as u64,
+        "output": text(report),
+        "tests": tests,
+    })
+}
+
+/// The checkpoint's hint and where to read more: its handout's list of mistakes and symptoms.
+pub fn hint_text(checkpoint: &Checkpoint) -> String {
+    format!(
+        "{} Read {}, section \"Symptoms of common mistakes\".",
+        checkpoint.hint,
+        checkpoint.handout.display()
+    )
+}
+
+fn round2(x: f64) -> f64 {
+    (x * 100.0).round() / 100.0
+}
+
+/// Writes each scene's render and difference heat map into `dir` as `<scene>.png` and
+/// `<scene>.diff.png`.
+pub fn write_images(report: &GradeReport, dir: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for s in &report.scenes {
+        if let (Some(render), Some(ssim)) = (&s.render, &s.ssim) {
+            write_png(&dir.join(format!("{}.png", s.scene.name)), render).map_err(|e| e.to_string())?;
+            write_png(&dir.join(format!("{}.diff.png", s.scene.name)), &heatmap(ssim, &s.reference))
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,213 @@
+//! The rubric: what each checkpoint is worth and what grades it, loaded from
+//! `checkpoints/rubric.toml` into typed structs and checked.
+//!
+//! A checkpoint earns `test_points` in proportion to its unit tests passing (`cargo test
+//! <test_filter>`), and `image_points` in proportion to the graded scenes naming it that pass every
+//! check. A scene is rendered with the code as it stands and compared with its reference image;
+//! see [`Check`] for the metrics.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+/// The whole rubric.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Rubric {
+    /// The checkpoints, in order.
+    #[serde(rename = "checkpoint")]
+    pub checkpoints: Vec<Checkpoint>,
+    /// The graded scenes.
+    #[serde(rename = "scene")]
+    pub scenes: Vec<GradedScene>,
+}
+
+/// One checkpoint.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Checkpoint {
+    /// 1 to 7.
+    pub id: u32,
+    /// Short title.
+    pub title: String,
+    /// Points for the unit tests.
+    pub test_points: f64,
+    /// Points for the graded scenes.
+    #[serde(default)]
+    pub image_points: f64,
+    /// The `cargo test` filter that runs exactly this checkpoint's tests.
+    pub test_filter: String,
+    /// One sentence pointing a student who fails in the right direction.
+    pub hint: String,
+    /// The handout, relative to the repository root.
+    pub handout: PathBuf,
+}
+
+/// A scene the grader renders and compares.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GradedScene {
+    /// Short name: the reference is `reference/<name>.png`.
+    pub name: String,
+    /// The scene file, relative to the repository root.
+    pub file: PathBuf,
+    /// Samples per pixel for the student's render.
+    pub spp: u32,
+    /// Samples per pixel for the reference (more for a converged one).
+    pub reference_spp: u32,
+    /// Seed of both renders.
+    #[serde(default)]
+    pub seed: u64,
+    /// The checkpoints whose image points this scene carries.
+    pub grades: Vec<u32>,
+    /// What must hold for the scene to pass.
+    #[serde(rename = "check")]
+    pub checks: Vec<Check>,
+}
+
+/// One requirement on a render, compared with the reference.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Check {
+    /// Which number.
+    pub metric: Metric,
+    /// For mask metrics: which mask.
+    pub mask: Option<Mask>,
+    /// The render passes if the number is at least this (similarities)...
+    pub min: Option<f64>,
+    /// ...or at most this (errors).
+    pub max: Option<f64>,
+    /// Why this threshold: the calibration it comes from.
+    pub why: String,
+}
+
+/// The numbers a check can ask for.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Metric {
+    /// Mean SSIM of the whole image (scikit-image's, see [`crate::ssim`]).
+    Ssim,
+    /// The largest mean error of any 32 × 32 tile (see [`crate::metrics::worst_tile_error`]): a
+    /// local error that a whole-image mean hides.
+    WorstTileError,
+    /// Mean SSIM inside a mask.
+    MaskSsim,
+    /// Root mean square error of linear radiance inside a mask (8-bit sRGB decoded).
+    MaskRmse,
+}
+
+/// Pixel sets derived from a feature render made with the reference solution.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[serde(rename_all = "snake_case")]
+pub enum Mask {
+    /// Pixels whose camera ray first meets glass.
+    Glass,
+    /// Pixels whose diffuse surface is hidden from at least one light.
+    Shadow,
+    /// Pixels where the object seen changes within the pixel's neighbourhood.
+    Edge,
+}
+
+impl Check {
+    /// The metric's name, with its mask: `ssim`, `mask_ssim(glass)`.
+    pub fn label(&self) -> String {
+        let name = match self.metric {
+            Metric::Ssim => "ssim",
+            Metric::WorstTileError => "worst_tile_error",
+            Metric::MaskSsim => "mask_ssim",
+            Metric::MaskRmse => "mask_rmse",
+        };
+        match self.mask {
+            Some(mask) => format!("{name}({})", format!("{mask:?}").to_lowercase()),
+            None => name.to_string(),
+        }
+    }
+
+    /// The threshold as text: `>= 0.990` or `<= 0.020`.
+    pub fn threshold_text(&self) -> String {
+        match (self.min, self.max) {
+            (Some(min), _) => format!(">= {min:.4}"),
+            (_, Some(max)) => format!("<= {max:.4}"),
+            (None, None) => "(none)".to_string(),
+        }
+    }
+}
+
+impl Metric {
+    /// Whether the metric needs a mask.
+    pub fn needs_mask(self) -> bool {
+        matches!(self, Metric::MaskSsim | Metric::MaskRmse)
+    }
+}
+
+impl Rubric {
+    /// Loads and checks `path`; every problem is reported as `path: what`.
+    pub fn load(path: &Path, root: &Path) -> Result<Rubric, String> {
+        let text =
+            std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let rubric: Rubric =
+            toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))?;
+        rubric.validate(root).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(rubric)
+    }
+
+    /// The checks `rustlings dev check` would make: ids in order, files exist, every scene
+    /// grades known checkpoints, every check is well-formed, every image point has a scene.
+    pub fn validate(&self, root: &Path) -> Result<(), String> {
+        let ids: Vec<u32> = self.checkpoints.iter().map(|c| c.id).collect();
+        if ids != (1..=ids.len() as u32).collect::<Vec<_>>() {
+            return Err(format!("checkpoint ids must be 1, 2, 3, ... in order, got {ids:?}"));
+        }
+        for c in &self.checkpoints {
+            if !root.join(&c.handout).is_file() {
+                return Err(format!("checkpoint {}: handout {} does not exist", c.id, c.handout.display()));
+            }
+            if c.test_points < 0.0 || c.image_points < 0.0 || c.hint.trim().is_empty() {
+                return Err(format!(
+                    "checkpoint {}: points must not be negative and the hint not empty",
+                    c.id
+                ));
+            }
+        }
+        let mut graded = BTreeSet::new();
+        let mut names = BTreeSet::new();
+        for s in &self.scenes {
+            if !names.insert(&s.name) {
+                return Err(format!("scene {} appears twice", s.name));
+            }
+            if !root.join(&s.file).is_file() {
+                return Err(format!("scene {}: {} does not exist", s.name, s.file.display()));
+            }
+            if s.spp == 0 || s.reference_spp < s.spp || s.grades.is_empty() || s.checks.is_empty() {
+                return Err(format!(
+                    "scene {}: needs spp >= 1, reference_spp >= spp, grades and checks",
+                    s.name
+                ));
+            }
+            if let Some(g) = s.grades.iter().find(|g| !ids.contains(g)) {
+                return Err(format!("scene {}: grades unknown checkpoint {g}", s.name));
+            }
+            graded.extend(s.grades.iter().copied());
+            for check in &s.checks {
+                if check.metric.needs_mask() != check.mask.is_some()
+                    || check.min.is_some() == check.max.is_some()
+                {
+                    return Err(format!(
+                        "scene {}: {check:?} needs a mask exactly for mask metrics, and one of min or max",
+                        s.name
+                    ));
+                }
+            }
+        }
+        if let Some(c) = self.checkpoints.iter().find(|c| c.image_points > 0.0 && !graded.contains(&c.id)) {
+            return Err(format!("checkpoint {} has image points but no scene grades it", c.id));
+        }
+        Ok(())
+    }
+
+    /// Total points available.
+    pub fn total_points(&self) -> f64 {
+        self.checkpoints.iter().map(|c| c.test_points + c.image_points).sum()
+    }
+}
