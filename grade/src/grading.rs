@@ -5,12 +5,16 @@
 //! everything is found under [`GradeOptions::root`], never the current directory.
 //!
 //! **Who loses a failed scene's points.** A scene carries the image points of every checkpoint it
-//! `grades` (`intersection_test` needs checkpoints 2 to 5). When it fails, the *culprit* is the
-//! lowest of those checkpoints whose unit tests do not all pass: checkpoints before it keep the
-//! scene's points (their own tests pass and the failure is explained), the culprit and those after
-//! it lose them. If every unit test passes, the failure cannot be pinned on one checkpoint and all
-//! of them lose the scene's points.
+//! `grades`, and runs the code of every checkpoint it `depends_on` (`cornell_refract` grades 6 but
+//! runs 2 to 6). The unit tests of all of those run, whatever was selected, so `--checkpoint N`
+//! gives checkpoint N the points `--all` gives it. When the scene fails, the *culprit* is the
+//! lowest checkpoint it depends on whose own unit tests do not all pass. A graded checkpoint
+//! before the culprit keeps the scene's points (its tests pass and the failure is explained
+//! elsewhere); the culprit loses them with its hint; one after it loses them with "fix checkpoint
+//! K first" and no hint of its own. If every unit test passes (or none ran), the failure cannot be
+//! pinned on one checkpoint and every graded one loses the points, with its hint.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -23,6 +27,7 @@ use crate::child::{run_with_limit, CHILD_ENV};
 use crate::features::Masks;
 use crate::metrics::{Comparison, Measured};
 use crate::reference::{load_reference, Manifest};
+use crate::report::hint_text;
 use crate::rubric::{Check, Checkpoint, GradedScene, Rubric};
 use crate::ssim::SsimMap;
 use crate::unit_tests::{build_tests, run_filter, TestRun};
@@ -91,6 +96,9 @@ pub struct CheckpointResult {
     pub image_score: f64,
     /// Why points were lost, one line each.
     pub reasons: Vec<String>,
+    /// What to read or fix, when this checkpoint itself is to blame: its hint and handout, or
+    /// "not started". `None` when it lost nothing or only lost points to another checkpoint.
+    pub advice: Option<String>,
 }
 
 impl CheckpointResult {
@@ -169,16 +177,22 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         .filter(|c| options.checkpoints.as_ref().is_none_or(|ids| ids.contains(&c.id)))
         .collect();
     let scenes = selected_scenes(&rubric, options, &checkpoints)?;
+    // The selected checkpoints' tests, and those of every checkpoint a selected scene runs.
+    let tested: Vec<&Checkpoint> = rubric
+        .checkpoints
+        .iter()
+        .filter(|c| checkpoints.contains(c) || scenes.iter().any(|s| s.depends_on.contains(&c.id)))
+        .collect();
     let manifest = Manifest::load(root)?;
     for scene in &scenes {
         manifest.fresh_entry(root, scene)?;
         load_reference(root, scene)?;
     }
 
-    let test_steps = if options.run_tests { checkpoints.len() + 1 } else { 0 };
+    let test_steps = if options.run_tests { tested.len() + 1 } else { 0 };
     progress.set_length((test_steps + 1 + scenes.len()) as u64);
     let target = options.target.as_deref();
-    let tests = options.run_tests.then(|| run_unit_tests(root, target, &checkpoints, progress));
+    let tests = options.run_tests.then(|| run_unit_tests(root, target, &tested, progress));
     progress.set_message("building the renderer");
     let renderer = build_renderer(root, target).map_err(|e| format!("the renderer does not build: {e}"));
     progress.inc(1);
@@ -191,13 +205,8 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         scene_results.push(grade_scene(options, renderer.as_deref(), scene, limit)?);
         progress.inc(1);
     }
-    let checkpoint_results = checkpoints
-        .iter()
-        .enumerate()
-        .map(|(i, c)| {
-            score_checkpoint(c, tests.as_ref().map(|t| &t[i]), tests.as_deref(), &checkpoints, &scene_results)
-        })
-        .collect();
+    let checkpoint_results =
+        checkpoints.iter().map(|c| score_checkpoint(c, tests.as_ref(), &scene_results)).collect();
     Ok(GradeReport {
         scenes: scene_results,
         checkpoints: checkpoint_results,
@@ -236,7 +245,7 @@ fn run_unit_tests(
     target: Option<&Path>,
     checkpoints: &[&Checkpoint],
     progress: &ProgressBar,
-) -> Vec<TestRun> {
+) -> TestRuns {
     progress.set_message("compiling the tests");
     let built = build_tests(root, target, BUILD_TIME_LIMIT);
     progress.inc(1);
@@ -251,7 +260,7 @@ fn run_unit_tests(
                 }
             };
             progress.inc(1);
-            run
+            (c.id, run)
         })
         .collect()
 }
@@ -317,17 +326,31 @@ fn score(
     Ok((render, checks, ssim))
 }
 
+/// Each tested checkpoint's unit-test run, by id.
+type TestRuns = BTreeMap<u32, TestRun>;
+
+/// The lowest checkpoint the scene runs whose own tests do not all pass (module docs), if the
+/// tests ran.
+fn culprit(scene: &GradedScene, tests: Option<&TestRuns>) -> Option<u32> {
+    let tests = tests?;
+    scene.depends_on.iter().copied().filter(|id| tests.get(id).is_none_or(|t| t.fraction() < 1.0)).min()
+}
+
 /// Test points by the fraction passed; image points by the culprit rule (module docs).
 fn score_checkpoint(
     checkpoint: &Checkpoint,
-    tests: Option<&TestRun>,
-    all_tests: Option<&[TestRun]>,
-    checkpoints: &[&Checkpoint],
+    tests: Option<&TestRuns>,
     scenes: &[SceneResult],
 ) -> CheckpointResult {
+    let id = checkpoint.id;
+    let own_tests = tests.and_then(|t| t.get(&id));
+    let not_started = |k: u32| tests.and_then(|t| t.get(&k)).is_some_and(|t| t.not_started(k));
     let mut reasons = Vec::new();
-    let test_score = tests.map_or(0.0, |t| {
-        if let Some(e) = &t.error {
+    let mut blamed = false;
+    let test_score = own_tests.map_or(0.0, |t| {
+        if not_started(id) {
+            reasons.push("not started: every unit test still meets the starter's todo!()".to_string());
+        } else if let Some(e) = &t.error {
             reasons.push(format!("unit tests: {e}"));
         } else if t.failed > 0 {
             // The test's own name reads as a sentence; its module path is the checkpoint's.
@@ -341,51 +364,131 @@ fn score_checkpoint(
         } else if t.passed == 0 {
             reasons.push(format!("unit tests: `cargo test {}` ran no test", checkpoint.test_filter));
         }
+        blamed = t.fraction() < 1.0;
         checkpoint.test_points * t.fraction()
     });
-    let tests_pass = |id: u32| {
-        let i = checkpoints.iter().position(|c| c.id == id);
-        match (all_tests, i) {
-            (Some(all), Some(i)) => all[i].fraction() == 1.0,
-            _ => true,
-        }
-    };
-    let mine: Vec<&SceneResult> = scenes.iter().filter(|s| s.scene.grades.contains(&checkpoint.id)).collect();
+    let mine: Vec<&SceneResult> = scenes.iter().filter(|s| s.scene.grades.contains(&id)).collect();
     let mut kept = 0usize;
     for s in &mine {
         if s.passed() {
             kept += 1;
             continue;
         }
-        let culprit = s.scene.grades.iter().copied().filter(|&g| !tests_pass(g)).min();
         let why = s.error.clone().unwrap_or_else(|| failed_checks(s));
-        match culprit {
-            Some(c) if c > checkpoint.id => kept += 1,
-            Some(c) if c < checkpoint.id => reasons.push(format!(
-                "scene {}: failed, and it needs checkpoint {c}, whose tests fail ({why})",
+        match culprit(&s.scene, tests) {
+            Some(k) if k > id => kept += 1,
+            Some(k) if k < id && not_started(k) => reasons.push(format!(
+                "scene {}: lost because checkpoint {k} is not started; write checkpoint {k} first",
                 s.scene.name
             )),
-            _ => reasons.push(format!("scene {}: {why}", s.scene.name)),
+            Some(k) if k < id => reasons.push(format!(
+                "scene {}: lost because checkpoint {k} is wrong (its unit tests fail); fix checkpoint {k} first ({why})",
+                s.scene.name
+            )),
+            _ => {
+                blamed = true;
+                reasons.push(format!("scene {}: {why}", s.scene.name));
+            }
         }
     }
     let image_score =
         if mine.is_empty() { 0.0 } else { checkpoint.image_points * kept as f64 / mine.len() as f64 };
+    let advice = if not_started(id) {
+        Some(format!("Not started yet: read {} first.", checkpoint.handout.display()))
+    } else {
+        blamed.then(|| hint_text(checkpoint))
+    };
     CheckpointResult {
         checkpoint: checkpoint.clone(),
-        tests: tests.cloned(),
+        tests: own_tests.cloned(),
         test_score,
         image_score,
         reasons,
+        advice,
     }
 }
 
-/// "ssim 0.912 < 0.990, ..." for the checks that failed.
+/// "ssim: got 0.9120, needs >= 0.9900, ..." for the checks that failed.
 fn failed_checks(s: &SceneResult) -> String {
     let failed: Vec<String> = s
         .checks
         .iter()
         .filter(|(_, m)| !m.passed)
-        .map(|(c, m)| format!("{} {:.4} {}", c.label(), m.value, c.threshold_text()))
+        .map(|(c, m)| format!("{}: got {:.4}, needs {}", c.label(), m.value, c.threshold_text()))
         .collect();
     failed.join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rubric() -> Rubric {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        Rubric::load(&root.join("checkpoints/rubric.toml"), &root).unwrap()
+    }
+
+    fn failed_scene(rubric: &Rubric, name: &str) -> SceneResult {
+        SceneResult {
+            scene: rubric.scenes.iter().find(|s| s.name == name).unwrap().clone(),
+            checks: Vec::new(),
+            error: Some("render differs".to_string()),
+            seconds: 0.0,
+            render: None,
+            reference: RgbImage::new(1, 1),
+            ssim: None,
+        }
+    }
+
+    fn runs(state: impl Fn(u32) -> &'static str) -> TestRuns {
+        (1..=7)
+            .map(|id| {
+                let run = match state(id) {
+                    "pass" => TestRun { passed: 5, ..TestRun::default() },
+                    "fail" => TestRun { passed: 4, failed: 1, ..TestRun::default() },
+                    _ => TestRun { failed: 5, stub_panics: [(id, 5)].into(), ..TestRun::default() },
+                };
+                (id, run)
+            })
+            .collect()
+    }
+
+    fn scored(rubric: &Rubric, tests: &TestRuns, scenes: &[SceneResult]) -> Vec<CheckpointResult> {
+        rubric.checkpoints.iter().map(|c| score_checkpoint(c, Some(tests), scenes)).collect()
+    }
+
+    /// A bug in checkpoint 2 fails every scene; each lost point names checkpoint 2, and only
+    /// checkpoint 2 gets advice.
+    #[test]
+    fn grader_blames_every_failed_scene_on_the_lowest_checkpoint_whose_tests_fail() {
+        let rubric = rubric();
+        let tests = runs(|id| if id == 2 { "fail" } else { "pass" });
+        let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
+        for c in scored(&rubric, &tests, &scenes) {
+            let image_reasons: Vec<&String> = c.reasons.iter().filter(|r| r.starts_with("scene")).collect();
+            if c.checkpoint.id == 2 {
+                assert!(c.advice.is_some() && !image_reasons.is_empty());
+            } else {
+                assert!(c.advice.is_none(), "checkpoint {}: {:?}", c.checkpoint.id, c.advice);
+                assert!(
+                    image_reasons.iter().all(|r| r.contains("fix checkpoint 2 first")),
+                    "{image_reasons:?}"
+                );
+            }
+        }
+    }
+
+    /// Checkpoint 2 written, 3 to 7 still the starter's: checkpoint 2 keeps its image points,
+    /// and the later ones are "not started", with their handout.
+    #[test]
+    fn grader_gives_a_correct_checkpoint_its_points_when_later_ones_are_not_started() {
+        let rubric = rubric();
+        let tests = runs(|id| if id <= 2 { "pass" } else { "todo" });
+        let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
+        let results = scored(&rubric, &tests, &scenes);
+        assert_eq!(results[1].score(), results[1].max_score(true));
+        for c in &results[2..] {
+            assert!(c.advice.as_deref().is_some_and(|a| a.starts_with("Not started")), "{:?}", c.advice);
+        }
+    }
 }

@@ -9,7 +9,6 @@ use image::RgbImage;
 
 use crate::grading::{GradeReport, SceneResult};
 use crate::heatmap::heatmap;
-use crate::report::hint_text;
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background:#fafafa;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\
@@ -36,11 +35,8 @@ pub fn page(report: &GradeReport) -> String {
         };
         let class = if c.reasons.is_empty() { "pass" } else { "fail" };
         let reasons: Vec<String> = c.reasons.iter().map(|r| escape(r)).collect();
-        let hint = if c.reasons.is_empty() {
-            String::new()
-        } else {
-            format!("<p class=\"hint\">{}</p>", escape(&hint_text(&c.checkpoint)))
-        };
+        let hint =
+            c.advice.as_ref().map_or(String::new(), |a| format!("<p class=\"hint\">{}</p>", escape(a)));
         let _ = writeln!(h, "<tr><td>{}</td><td>{}</td><td>{tests}</td><td>{images}</td><td class=\"{class}\">{:.1}/{:.0}</td><td>{}{hint}</td></tr>",
             c.checkpoint.id, escape(&c.checkpoint.title), c.score(), c.max_score(report.tests_ran), reasons.join("<br>"));
     }
@@ -80,17 +76,12 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         );
     }
     h.push_str("</table>\n");
-    for c in report
-        .checkpoints
-        .iter()
-        .filter(|c| !s.passed() && s.scene.grades.contains(&c.checkpoint.id) && !c.reasons.is_empty())
+    for c in
+        report.checkpoints.iter().filter(|c| !s.passed() && s.scene.depends_on.contains(&c.checkpoint.id))
     {
-        let _ = writeln!(
-            h,
-            "<p class=\"hint\">Checkpoint {}: {}</p>",
-            c.checkpoint.id,
-            escape(&hint_text(&c.checkpoint))
-        );
+        if let Some(advice) = &c.advice {
+            let _ = writeln!(h, "<p class=\"hint\">Checkpoint {}: {}</p>", c.checkpoint.id, escape(advice));
+        }
     }
     h.push_str("</section>\n");
 }

@@ -66,8 +66,8 @@ pub fn text(report: &GradeReport) -> String {
         for reason in &c.reasons {
             let _ = writeln!(out, "      - {reason}");
         }
-        if !c.reasons.is_empty() {
-            let _ = writeln!(out, "      hint: {}", hint_text(&c.checkpoint));
+        if let Some(advice) = &c.advice {
+            let _ = writeln!(out, "      hint: {advice}");
         }
     }
     let _ = writeln!(
@@ -88,10 +88,10 @@ pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
     let mut tests = Vec::new();
     for c in &report.checkpoints {
         let id = c.checkpoint.id;
-        let output = if c.reasons.is_empty() {
-            "All checks passed.".to_string()
-        } else {
-            format!("{}\nHint: {}", c.reasons.join("\n"), hint_text(&c.checkpoint))
+        let output = match (&c.advice, c.reasons.is_empty()) {
+            (_, true) => "All checks passed.".to_string(),
+            (Some(advice), false) => format!("{}\nHint: {advice}", c.reasons.join("\n")),
+            (None, false) => c.reasons.join("\n"),
         };
         let mut part = |number: &str, name: String, score: f64, max: f64| {
             let status = if (score - max).abs() < 1e-9 { "passed" } else { "failed" };

@@ -61,6 +61,9 @@ pub struct GradedScene {
     pub seed: u64,
     /// The checkpoints whose image points this scene carries.
     pub grades: Vec<u32>,
+    /// Every checkpoint whose code rendering the scene runs (a superset of `grades`): a failure
+    /// is blamed on the lowest of them whose unit tests fail.
+    pub depends_on: Vec<u32>,
     /// What must hold for the scene to pass.
     #[serde(rename = "check")]
     pub checks: Vec<Check>,
@@ -185,8 +188,11 @@ impl Rubric {
                     s.name
                 ));
             }
-            if let Some(g) = s.grades.iter().find(|g| !ids.contains(g)) {
-                return Err(format!("scene {}: grades unknown checkpoint {g}", s.name));
+            if let Some(g) = s.grades.iter().chain(&s.depends_on).find(|g| !ids.contains(g)) {
+                return Err(format!("scene {}: names unknown checkpoint {g}", s.name));
+            }
+            if let Some(g) = s.grades.iter().find(|g| !s.depends_on.contains(g)) {
+                return Err(format!("scene {}: grades checkpoint {g} but does not depend on it", s.name));
             }
             graded.extend(s.grades.iter().copied());
             for check in &s.checks {
