@@ -30,6 +30,7 @@ use crate::reference::{load_reference, Manifest};
 use crate::report::hint_text;
 use crate::rubric::{Check, Checkpoint, GradedScene, Rubric};
 use crate::ssim::SsimMap;
+use crate::stub::stubbed_checkpoints;
 use crate::unit_tests::{build_tests, run_filter, TestRun};
 use raylab::image_io::read_png;
 
@@ -193,6 +194,9 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     progress.set_length((test_steps + 1 + scenes.len()) as u64);
     let target = options.target.as_deref();
     let tests = options.run_tests.then(|| run_unit_tests(root, target, &tested, progress));
+    let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
+    let stubbed =
+        stubbed_checkpoints(&root.join("src"), &ids).map_err(|e| format!("{}/src: {e}", root.display()))?;
     progress.set_message("building the renderer");
     let renderer = build_renderer(root, target).map_err(|e| format!("the renderer does not build: {e}"));
     progress.inc(1);
@@ -206,7 +210,7 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         progress.inc(1);
     }
     let checkpoint_results =
-        checkpoints.iter().map(|c| score_checkpoint(c, tests.as_ref(), &scene_results)).collect();
+        checkpoints.iter().map(|c| score_checkpoint(c, tests.as_ref(), &stubbed, &scene_results)).collect();
     Ok(GradeReport {
         scenes: scene_results,
         checkpoints: checkpoint_results,
@@ -326,6 +330,9 @@ fn score(
     Ok((render, checks, ssim))
 }
 
+/// A reason names this many failing tests; `cargo test checkpointN` shows them all.
+const SHOWN_FAILURES: usize = 3;
+
 /// Each tested checkpoint's unit-test run, by id.
 type TestRuns = BTreeMap<u32, TestRun>;
 
@@ -337,29 +344,33 @@ fn culprit(scene: &GradedScene, tests: Option<&TestRuns>) -> Option<u32> {
 }
 
 /// Test points by the fraction passed; image points by the culprit rule (module docs).
+/// `stubbed`: the checkpoints whose regions are all still the starter's `todo!()`.
 fn score_checkpoint(
     checkpoint: &Checkpoint,
     tests: Option<&TestRuns>,
+    stubbed: &[u32],
     scenes: &[SceneResult],
 ) -> CheckpointResult {
     let id = checkpoint.id;
     let own_tests = tests.and_then(|t| t.get(&id));
-    let not_started = |k: u32| tests.and_then(|t| t.get(&k)).is_some_and(|t| t.not_started(k));
+    let not_started = |k: u32| stubbed.contains(&k);
     let mut reasons = Vec::new();
     let mut blamed = false;
     let test_score = own_tests.map_or(0.0, |t| {
         if not_started(id) {
-            reasons.push("not started: every unit test still meets the starter's todo!()".to_string());
+            reasons.push("not started: its code is still the starter's todo!()".to_string());
         } else if let Some(e) = &t.error {
             reasons.push(format!("unit tests: {e}"));
         } else if t.failed > 0 {
             // The test's own name reads as a sentence; its module path is the checkpoint's.
             let names: Vec<&str> = t.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f)).collect();
+            let more = names.len().saturating_sub(SHOWN_FAILURES);
+            let more = if more > 0 { format!(" and {more} more") } else { String::new() };
             reasons.push(format!(
-                "unit tests: {} of {} failed: {}",
+                "unit tests: {} of {} failed: {}{more}",
                 t.failed,
                 t.passed + t.failed,
-                names.join(", ")
+                names[..names.len().min(SHOWN_FAILURES)].join(", ")
             ));
         } else if t.passed == 0 {
             reasons.push(format!("unit tests: `cargo test {}` ran no test", checkpoint.test_filter));
@@ -440,21 +451,20 @@ mod tests {
         }
     }
 
-    fn runs(state: impl Fn(u32) -> &'static str) -> TestRuns {
-        (1..=7)
-            .map(|id| {
-                let run = match state(id) {
-                    "pass" => TestRun { passed: 5, ..TestRun::default() },
-                    "fail" => TestRun { passed: 4, failed: 1, ..TestRun::default() },
-                    _ => TestRun { failed: 5, stub_panics: [(id, 5)].into(), ..TestRun::default() },
-                };
-                (id, run)
-            })
-            .collect()
+    /// Every checkpoint's tests passing, but those `failing` (one of five fails).
+    fn runs(failing: impl Fn(u32) -> bool) -> TestRuns {
+        let run =
+            |id| TestRun { passed: 5 - failing(id) as u32, failed: failing(id) as u32, ..TestRun::default() };
+        (1..=7).map(|id| (id, run(id))).collect()
     }
 
-    fn scored(rubric: &Rubric, tests: &TestRuns, scenes: &[SceneResult]) -> Vec<CheckpointResult> {
-        rubric.checkpoints.iter().map(|c| score_checkpoint(c, Some(tests), scenes)).collect()
+    fn scored(
+        rubric: &Rubric,
+        tests: &TestRuns,
+        stubbed: &[u32],
+        scenes: &[SceneResult],
+    ) -> Vec<CheckpointResult> {
+        rubric.checkpoints.iter().map(|c| score_checkpoint(c, Some(tests), stubbed, scenes)).collect()
     }
 
     /// A bug in checkpoint 2 fails every scene; each lost point names checkpoint 2, and only
@@ -462,9 +472,9 @@ mod tests {
     #[test]
     fn grader_blames_every_failed_scene_on_the_lowest_checkpoint_whose_tests_fail() {
         let rubric = rubric();
-        let tests = runs(|id| if id == 2 { "fail" } else { "pass" });
+        let tests = runs(|id| id == 2);
         let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
-        for c in scored(&rubric, &tests, &scenes) {
+        for c in scored(&rubric, &tests, &[], &scenes) {
             let image_reasons: Vec<&String> = c.reasons.iter().filter(|r| r.starts_with("scene")).collect();
             if c.checkpoint.id == 2 {
                 assert!(c.advice.is_some() && !image_reasons.is_empty());
@@ -483,9 +493,9 @@ mod tests {
     #[test]
     fn grader_gives_a_correct_checkpoint_its_points_when_later_ones_are_not_started() {
         let rubric = rubric();
-        let tests = runs(|id| if id <= 2 { "pass" } else { "todo" });
+        let tests = runs(|id| id > 2);
         let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
-        let results = scored(&rubric, &tests, &scenes);
+        let results = scored(&rubric, &tests, &[3, 4, 5, 6, 7], &scenes);
         assert_eq!(results[1].score(), results[1].max_score(true));
         for c in &results[2..] {
             assert!(c.advice.as_deref().is_some_and(|a| a.starts_with("Not started")), "{:?}", c.advice);

@@ -47,6 +47,41 @@ pub fn stub_regions(text: &str, checkpoint: u32) -> String {
     out
 }
 
+/// Whether a region body is still the starter's stub: nothing but `let _ = ...;` lines and the
+/// `todo!("checkpoint N: ...")` that [`stub_regions`] writes.
+pub fn is_stub(body: &str, checkpoint: u32) -> bool {
+    let todo = format!("todo!(\"checkpoint {checkpoint}:");
+    let mut lines = body.lines().map(str::trim).filter(|l| !l.is_empty());
+    lines.clone().any(|l| l.starts_with(&todo))
+        && lines.all(|l| l.starts_with("let _ = ") || l.starts_with(&todo))
+}
+
+/// The checkpoints among `ids` whose every solution region in the Rust files below `dir` is still
+/// the starter's stub (a checkpoint with no region at all is not among them).
+pub fn stubbed_checkpoints(dir: &std::path::Path, ids: &[u32]) -> std::io::Result<Vec<u32>> {
+    let texts = rust_files(dir)?;
+    let stubbed = |&id: &u32| {
+        let bodies: Vec<&str> =
+            texts.iter().flat_map(|t| region_bodies(t, id).into_iter().map(move |r| &t[r])).collect();
+        !bodies.is_empty() && bodies.iter().all(|b| is_stub(b, id))
+    };
+    Ok(ids.iter().copied().filter(stubbed).collect())
+}
+
+/// The text of every Rust file below `dir`.
+pub fn rust_files(dir: &std::path::Path) -> std::io::Result<Vec<String>> {
+    let mut texts = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.is_dir() {
+            texts.extend(rust_files(&path)?);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            texts.push(std::fs::read_to_string(&path)?);
+        }
+    }
+    Ok(texts)
+}
+
 /// For the last `fn` in `before`: its name, its parameters as borrows to silence (`&x`, `&mut y`
 /// for a `mut y` binding; `self` and `_`-names skipped) and the first sentence of its doc comment.
 fn enclosing_fn(before: &str) -> (String, Vec<String>, String) {
@@ -134,5 +169,18 @@ mod tests {
         assert!(stub.contains(expected), "{stub}");
         assert!(!stub.contains("radiance(pixel"));
         assert_eq!(stub_regions(SOLUTION, 6), SOLUTION, "other checkpoints untouched");
+    }
+
+    #[test]
+    fn grader_tells_a_stub_from_a_started_region() {
+        let stub = stub_regions(SOLUTION, 7);
+        let bodies =
+            |text: &str| region_bodies(text, 7).into_iter().map(|r| text[r].to_string()).collect::<Vec<_>>();
+        assert!(bodies(&stub).iter().all(|b| is_stub(b, 7)), "{stub}");
+        assert!(bodies(SOLUTION).iter().all(|b| !is_stub(b, 7)));
+        // Started: a line of the student's own before the todo!() they have not removed yet.
+        let started = stub.replace("    todo!(", "    let n = spp * 2;\n    todo!(");
+        assert!(bodies(&started).iter().all(|b| !is_stub(b, 7)), "{started}");
+        assert!(bodies(&stub).iter().all(|b| !is_stub(b, 6)), "another checkpoint's todo");
     }
 }

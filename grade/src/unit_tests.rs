@@ -1,6 +1,5 @@
 //! Running a checkpoint's unit tests (`cargo test <filter>`) as a child process and counting.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Duration;
 
@@ -18,20 +17,9 @@ pub struct TestRun {
     pub failures: Vec<String>,
     /// Why the run itself went wrong (no compile, crash, time limit), if it did.
     pub error: Option<String>,
-    /// How many failures were the starter's `todo!("checkpoint N: ...")`, by checkpoint N.
-    pub stub_panics: BTreeMap<u32, u32>,
 }
 
-/// How the starter's stubs panic: `todo!("checkpoint N: ...")` (see [`crate::stub`]).
-const STUB_PANIC: &str = "not yet implemented: checkpoint ";
-
 impl TestRun {
-    /// Whether checkpoint `id` is still the starter's: no test passed and every failure is its
-    /// own `todo!()`.
-    pub fn not_started(&self, id: u32) -> bool {
-        self.passed == 0 && self.failed > 0 && self.stub_panics.get(&id).is_some_and(|&n| n >= self.failed)
-    }
-
     /// The fraction of tests passed; 0 when the run went wrong or ran nothing.
     pub fn fraction(&self) -> f64 {
         if self.error.is_some() || self.passed + self.failed == 0 {
@@ -90,10 +78,6 @@ pub fn parse_test_output(stdout: &str) -> TestRun {
             result.failed += count("failed").unwrap_or(0);
         } else if let Some(name) = line.strip_prefix("test ").and_then(|l| l.strip_suffix(" ... FAILED")) {
             result.failures.push(name.to_string());
-        } else if let Some(rest) = line.strip_prefix(STUB_PANIC) {
-            if let Some(Ok(n)) = rest.split(':').next().map(str::parse::<u32>) {
-                *result.stub_panics.entry(n).or_default() += 1;
-            }
         }
     }
     result
@@ -112,28 +96,5 @@ mod tests {
         assert_eq!((run.passed, run.failed), (6, 1));
         assert_eq!(run.failures, vec!["a::c".to_string()]);
         assert!((run.fraction() - 6.0 / 7.0).abs() < 1e-12);
-        assert!(!run.not_started(2));
-    }
-
-    #[test]
-    fn grader_calls_a_checkpoint_not_started_only_when_its_own_stub_fails_every_test() {
-        let out = |panics: &str| {
-            format!(
-                "test a ... FAILED\ntest b ... FAILED\n\nfailures:\n\n{panics}\n\
-                 test result: FAILED. 0 passed; 2 failed; 0 ignored; 0 measured; 0 filtered out\n"
-            )
-        };
-        let own = "---- a stdout ----\nnot yet implemented: checkpoint 4: write the split\n\
-                   ---- b stdout ----\nnot yet implemented: checkpoint 4: write traverse\n";
-        assert!(parse_test_output(&out(own)).not_started(4));
-        // Checkpoint 4's tests failing on checkpoint 2's stub: 4 may be written; 2 is the culprit.
-        let earlier = own.replace("checkpoint 4", "checkpoint 2");
-        assert!(!parse_test_output(&out(&earlier)).not_started(4));
-        let one_own = own.replacen(
-            "not yet implemented: checkpoint 4: write traverse",
-            "assertion failed: hit.is_some()",
-            1,
-        );
-        assert!(!parse_test_output(&out(&one_own)).not_started(4));
     }
 }

@@ -200,16 +200,7 @@ fn surviving_solution_lines(solution: &Path, starter: &Path) -> Result<Vec<Strin
 }
 
 fn rust_files(dir: &Path) -> Result<Vec<String>, String> {
-    let mut texts = Vec::new();
-    for entry in std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))? {
-        let path = entry.map_err(|e| e.to_string())?.path();
-        if path.is_dir() {
-            texts.extend(rust_files(&path)?);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            texts.push(std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?);
-        }
-    }
-    Ok(texts)
+    raylab_grade::stub::rust_files(dir).map_err(|e| format!("{}: {e}", dir.display()))
 }
 
 /// Builds each single-checkpoint stub in a scratch tree (one shared target folder) and runs the
