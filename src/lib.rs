@@ -25,6 +25,7 @@
 #![warn(missing_docs)]
 
 pub mod camera;
+pub mod fallback;
 pub mod film;
 pub mod geometry;
 pub mod image_io;

@@ -22,9 +22,18 @@ const TILE: u32 = 16;
 
 /// Renders the world's scene with `settings`, advancing `progress` by one per finished pixel.
 pub fn render(world: &World, settings: &RenderSettings, progress: &ProgressBar) -> Film {
+    render_with(world, settings, Integrator::from_settings(settings), progress)
+}
+
+/// [`render`] with another integrator than the scene's (`render`'s stand-ins, [`crate::fallback`]).
+pub fn render_with(
+    world: &World,
+    settings: &RenderSettings,
+    integrator: Integrator,
+    progress: &ProgressBar,
+) -> Film {
     let camera = &world.scene().camera;
     let (width, height) = (camera.width(), camera.height());
-    let integrator = Integrator::from_settings(settings);
     let tiles: Vec<UVec2> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| UVec2::new(tx, ty) * TILE))
         .collect();

@@ -290,7 +290,9 @@ fn grade_scene(
                 .arg("--spp")
                 .arg(scene.spp.to_string())
                 .arg("--seed")
-                .arg(seed.to_string());
+                .arg(seed.to_string())
+                // Stand-ins are never graded: a stub fails the scene.
+                .arg("--no-fallbacks");
             let run = run_with_limit(command, limit)
                 .map_err(|e| format!("cannot start {}: {e}", renderer.display()))?;
             let rendered = if run.success() {

@@ -1,6 +1,7 @@
 //! A scene with its BVH: the two queries integrators ask, closest hit and occlusion.
 
 use super::Scene;
+use crate::fallback::{any_triangle, closest_triangle};
 use crate::geometry::{Bvh, SplitMethod, TraversalStats};
 use crate::material::Material;
 use crate::math::{Ray, Vec3};
@@ -8,7 +9,16 @@ use crate::math::{Ray, Vec3};
 /// A scene ready for tracing: the scene and a BVH over its triangles.
 pub struct World<'a> {
     scene: &'a Scene,
-    bvh: Bvh,
+    tracer: Tracer,
+}
+
+/// How rays find triangles.
+enum Tracer {
+    /// Through the BVH (checkpoints 2 to 4).
+    Bvh(Bvh),
+    /// By testing every triangle: `render`'s stand-in while checkpoint 3 or 4 is unwritten
+    /// ([`crate::fallback`]).
+    EveryTriangle,
 }
 
 /// Where a ray meets the scene, and what is there.
@@ -29,7 +39,12 @@ pub struct SurfaceHit<'a> {
 impl<'a> World<'a> {
     /// Builds the BVH over the scene's triangles with `method`.
     pub fn new(scene: &'a Scene, method: SplitMethod) -> Self {
-        Self { scene, bvh: Bvh::build(&scene.triangles, method) }
+        Self { scene, tracer: Tracer::Bvh(Bvh::build(&scene.triangles, method)) }
+    }
+
+    /// Without a BVH: every ray tests every triangle (`render`'s stand-in for checkpoints 3, 4).
+    pub fn tracing_every_triangle(scene: &'a Scene) -> Self {
+        Self { scene, tracer: Tracer::EveryTriangle }
     }
 
     /// The scene.
@@ -37,14 +52,12 @@ impl<'a> World<'a> {
         self.scene
     }
 
-    /// The BVH.
-    pub fn bvh(&self) -> &Bvh {
-        &self.bvh
-    }
-
     /// The closest surface `ray` meets in its range.
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit<'a>> {
-        let hit = self.bvh.intersect(ray, &mut TraversalStats::default())?;
+        let hit = match &self.tracer {
+            Tracer::Bvh(bvh) => bvh.intersect(ray, &mut TraversalStats::default()),
+            Tracer::EveryTriangle => closest_triangle(&self.scene.triangles, ray),
+        }?;
         let triangle = &self.scene.triangles[hit.prim as usize];
         let material = self.scene.triangle_materials[hit.prim as usize];
         Some(SurfaceHit {
@@ -58,6 +71,9 @@ impl<'a> World<'a> {
 
     /// Whether anything blocks `ray` in its range.
     pub fn occluded(&self, ray: &Ray) -> bool {
-        self.bvh.occluded(ray, &mut TraversalStats::default())
+        match &self.tracer {
+            Tracer::Bvh(bvh) => bvh.occluded(ray, &mut TraversalStats::default()),
+            Tracer::EveryTriangle => any_triangle(&self.scene.triangles, ray),
+        }
     }
 }

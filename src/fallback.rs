@@ -1,0 +1,175 @@
+//! Stand-ins `render` draws with while a checkpoint is still the starter's `todo!()`, so that a
+//! student sees a picture from checkpoint 2 on.
+//!
+//! `render` runs the real code; when it panics with a starter stub's message
+//! (`not yet implemented: checkpoint N: ...`), it takes checkpoint N's stand-in, says so in one
+//! line and starts again. Any other panic is reported as it is, never hidden. The stand-ins need
+//! no solution and give none away:
+//!
+//! | checkpoint not written | stand-in |
+//! |---|---|
+//! | 2 (triangle) | none: nothing can be seen without it |
+//! | 3 (box), 4 (BVH) | every triangle is tested for every ray (no BVH, no boxes); slow |
+//! | 5 (glass, intersection test) | the first surface shaded by its normal; glass is not followed |
+//! | 6 (direct lighting) | checkpoint 5's shading, or the normal if 5 is not written either |
+//! | 7 (anti-aliasing) | one ray through each pixel centre |
+//!
+//! Nothing here is ever graded: the grader renders with `render --no-fallbacks`, where a stub
+//! fails the scene.
+
+use crate::geometry::{intersect_triangle, BvhHit, SplitMethod, Triangle};
+use crate::integrator::{Integrator, IntersectionTestIntegrator};
+use crate::math::{Ray, Vec3};
+use crate::scene::{RenderSettings, Scene, World};
+
+/// How the starter's stubs panic (`todo!("checkpoint N: ...")`).
+const STUB_PANIC: &str = "not yet implemented: checkpoint ";
+
+/// The checkpoint whose starter stub a panic message comes from, if it is one.
+pub fn stub_checkpoint(message: &str) -> Option<u32> {
+    let rest = message.strip_prefix(STUB_PANIC)?;
+    rest.split(':').next()?.parse().ok()
+}
+
+/// How surfaces are shaded instead of the integrator the scene asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shading {
+    /// Checkpoint 5's intersection-test integrator (no lights).
+    IntersectionTest,
+    /// The first surface's normal as a colour ([`normal_colour`]).
+    Normals,
+}
+
+/// The stand-ins taken so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Fallbacks {
+    /// Test every triangle instead of building and traversing the BVH.
+    pub every_triangle: bool,
+    /// Shade this way instead of with the scene's integrator.
+    pub shading: Option<Shading>,
+    /// One ray through each pixel centre, whatever the samples per pixel.
+    pub pixel_centre: bool,
+}
+
+impl Fallbacks {
+    /// Takes the stand-in for `checkpoint`, returning the line that tells the user, or `None` if
+    /// there is none (checkpoint 2) or it was already taken (the stub is then an error).
+    pub fn take(&mut self, checkpoint: u32) -> Option<&'static str> {
+        match checkpoint {
+            3 | 4 if !self.every_triangle => {
+                self.every_triangle = true;
+                Some("tracing every triangle instead of the BVH; slow")
+            }
+            5 if self.shading != Some(Shading::Normals) => {
+                self.shading = Some(Shading::Normals);
+                Some("shading the first surface by its normal; glass is not followed")
+            }
+            6 if self.shading.is_none() => {
+                self.shading = Some(Shading::IntersectionTest);
+                Some("shading as checkpoint 5 does, without lights")
+            }
+            7 if !self.pixel_centre => {
+                self.pixel_centre = true;
+                Some("one ray through each pixel centre, no anti-aliasing")
+            }
+            _ => None,
+        }
+    }
+}
+
+impl Fallbacks {
+    /// The world to trace: with the BVH, or testing every triangle.
+    pub fn world<'a>(&self, scene: &'a Scene) -> World<'a> {
+        if self.every_triangle {
+            World::tracing_every_triangle(scene)
+        } else {
+            World::new(scene, SplitMethod::ObjectMedian)
+        }
+    }
+
+    /// The integrator to shade with, and the settings to render with.
+    pub fn integrator(&self, settings: &RenderSettings) -> (Integrator, RenderSettings) {
+        let integrator = match self.shading {
+            None => Integrator::from_settings(settings),
+            Some(Shading::IntersectionTest) => {
+                Integrator::IntersectionTest(IntersectionTestIntegrator { max_depth: settings.max_depth })
+            }
+            Some(Shading::Normals) => Integrator::Normals,
+        };
+        let spp = if self.pixel_centre { 1 } else { settings.spp };
+        (integrator, RenderSettings { spp, ..*settings })
+    }
+}
+
+/// The closest triangle `ray` meets in its range, testing every one (checkpoint 2 only).
+pub fn closest_triangle(triangles: &[Triangle], ray: &Ray) -> Option<BvhHit> {
+    let mut ray = *ray;
+    let mut closest = None;
+    for (prim, t) in triangles.iter().enumerate() {
+        if let Some(hit) = intersect_triangle(&ray, t.p0, t.p1, t.p2) {
+            ray.t_max = hit.t;
+            closest = Some(BvhHit { prim: prim as u32, hit });
+        }
+    }
+    closest
+}
+
+/// Whether any triangle blocks `ray` in its range, testing every one (checkpoint 2 only).
+pub fn any_triangle(triangles: &[Triangle], ray: &Ray) -> bool {
+    triangles.iter().any(|t| intersect_triangle(ray, t.p0, t.p1, t.p2).is_some())
+}
+
+/// The first surface's normal, turned toward the viewer, as a colour: `(n + 1) / 2`, so a
+/// surface facing +x is pink-red, +y green, +z blue; black where the ray meets nothing.
+pub fn normal_colour(world: &World, ray: Ray) -> Vec3 {
+    world.intersect(&ray).map_or(Vec3::ZERO, |hit| {
+        let n = if hit.normal.dot(ray.dir) > 0.0 { -hit.normal } else { hit.normal };
+        (n + 1.0) * 0.5
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+    use crate::test_fixtures::{random_mesh, random_unit_vector};
+
+    /// The stand-in tracer finds the nearest of all the hits each triangle gives alone on the
+    /// full ray, and any-hit agrees with it.
+    #[test]
+    fn testing_every_triangle_finds_the_nearest_hit() {
+        let mut rng = Rng::new(5, 0);
+        let triangles = random_mesh(&mut rng, 200);
+        for _ in 0..500 {
+            let origin = 2.0 * random_unit_vector(&mut rng);
+            let ray = Ray::new(origin, 0.3 * random_unit_vector(&mut rng) - origin);
+            let nearest = triangles
+                .iter()
+                .filter_map(|t| intersect_triangle(&ray, t.p0, t.p1, t.p2))
+                .map(|h| h.t)
+                .reduce(f32::min);
+            assert_eq!(closest_triangle(&triangles, &ray).map(|h| h.hit.t), nearest, "{ray:?}");
+            assert_eq!(any_triangle(&triangles, &ray), nearest.is_some());
+        }
+    }
+
+    #[test]
+    fn only_the_starters_stub_messages_name_a_checkpoint() {
+        assert_eq!(stub_checkpoint("not yet implemented: checkpoint 4: write `traverse`: ..."), Some(4));
+        assert_eq!(stub_checkpoint("not yet implemented"), None);
+        assert_eq!(stub_checkpoint("index out of bounds: checkpoint 4: ..."), None);
+    }
+
+    #[test]
+    fn each_stand_in_is_taken_once_and_checkpoint_2_has_none() {
+        let mut f = Fallbacks::default();
+        assert_eq!(f.take(2), None);
+        assert!(f.take(6).is_some());
+        assert_eq!(f.shading, Some(Shading::IntersectionTest));
+        assert!(f.take(5).is_some(), "checkpoint 5 unwritten too: down to normals");
+        assert_eq!(f.take(5), None, "a stub still reached after its stand-in is a real failure");
+        assert!(f.take(4).is_some());
+        assert_eq!(f.take(3), None, "3 and 4 share one stand-in");
+        assert!(f.take(7).is_some() && f.pixel_centre);
+    }
+}
