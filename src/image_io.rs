@@ -5,10 +5,8 @@
 //! Files are written to a temporary name beside the target and renamed into place, so a failed
 //! or interrupted write never leaves half an image over a good one.
 
-use std::io::Write;
+use std::io::{BufReader, Write};
 use std::path::{Path, PathBuf};
-
-use image::{ImageEncoder, RgbImage};
 
 use crate::film::Film;
 use crate::math::Vec3;
@@ -58,27 +56,43 @@ pub fn encode_channel(c: f32) -> u8 {
     (linear_to_srgb(c) * 255.0).round() as u8
 }
 
+/// An 8-bit sRGB image: `width × height` pixels, row by row, three bytes (R, G, B) each.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Rgb8Image {
+    /// Pixels per row.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// `3 · width · height` bytes.
+    pub data: Vec<u8>,
+}
+
 /// The film as an 8-bit sRGB image.
-pub fn film_to_image(film: &Film) -> RgbImage {
-    let bytes = film.pixels().iter().flat_map(|p| p.to_array().map(encode_channel)).collect();
-    RgbImage::from_raw(film.width(), film.height(), bytes).expect("a film has width × height pixels")
+pub fn film_to_rgb8(film: &Film) -> Rgb8Image {
+    let data = film.pixels().iter().flat_map(|p| p.to_array().map(encode_channel)).collect();
+    Rgb8Image { width: film.width(), height: film.height(), data }
 }
 
 /// An 8-bit sRGB image decoded to linear values.
-pub fn image_to_film(image: &RgbImage) -> Film {
+pub fn rgb8_to_film(image: &Rgb8Image) -> Film {
     let decode = |c: u8| srgb_to_linear(c as f32 / 255.0);
-    let pixels = image.pixels().map(|p| Vec3::new(decode(p[0]), decode(p[1]), decode(p[2]))).collect();
-    Film::from_pixels(image.width(), image.height(), pixels)
+    let pixels =
+        image.data.chunks_exact(3).map(|p| Vec3::new(decode(p[0]), decode(p[1]), decode(p[2]))).collect();
+    Film::from_pixels(image.width, image.height, pixels)
 }
 
 /// Writes `image` as a PNG at `path`, atomically (see [`write_file_atomic`]).
-pub fn write_png(path: &Path, image: &RgbImage) -> Result<(), ImageError> {
+pub fn write_png(path: &Path, image: &Rgb8Image) -> Result<(), ImageError> {
+    let fail =
+        |e: &dyn std::fmt::Display| ImageError::Write { path: path.to_path_buf(), message: e.to_string() };
     let mut bytes = Vec::new();
-    image::codecs::png::PngEncoder::new(&mut bytes)
-        .write_image(image.as_raw(), image.width(), image.height(), image::ExtendedColorType::Rgb8)
-        .map_err(|e| ImageError::Write { path: path.to_path_buf(), message: e.to_string() })?;
-    write_file_atomic(path, &bytes)
-        .map_err(|e| ImageError::Write { path: path.to_path_buf(), message: e.to_string() })
+    let mut encoder = png::Encoder::new(&mut bytes, image.width, image.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| fail(&e))?;
+    writer.write_image_data(&image.data).map_err(|e| fail(&e))?;
+    writer.finish().map_err(|e| fail(&e))?;
+    write_file_atomic(path, &bytes).map_err(|e| fail(&e))
 }
 
 /// Writes `bytes` to a hidden temporary file beside `path`, syncs it, and renames it over `path`:
@@ -99,21 +113,31 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result
 }
 
-/// Reads a PNG (any bit depth or colour type) as 8-bit RGB.
-pub fn read_png(path: &Path) -> Result<RgbImage, ImageError> {
-    let fail = |message: String| ImageError::Read { path: path.to_path_buf(), message };
-    let reader = image::ImageReader::open(path).map_err(|e| fail(e.to_string()))?;
-    let image = reader
-        .with_guessed_format()
-        .map_err(|e| fail(e.to_string()))?
-        .decode()
-        .map_err(|e| fail(e.to_string()))?;
-    Ok(image.to_rgb8())
+/// Reads a PNG (any bit depth or colour type) as 8-bit RGB: 16-bit samples keep their high
+/// byte, palettes are expanded, grey is repeated in R, G and B, alpha is dropped.
+pub fn read_png(path: &Path) -> Result<Rgb8Image, ImageError> {
+    let fail =
+        |e: &dyn std::fmt::Display| ImageError::Read { path: path.to_path_buf(), message: e.to_string() };
+    let file = std::fs::File::open(path).map_err(|e| fail(&e))?;
+    let mut decoder = png::Decoder::new(BufReader::new(file));
+    decoder.set_transformations(png::Transformations::normalize_to_color8());
+    let mut reader = decoder.read_info().map_err(|e| fail(&e))?;
+    let mut buffer = vec![0; reader.output_buffer_size().ok_or_else(|| fail(&"the image is too large"))?];
+    let frame = reader.next_frame(&mut buffer).map_err(|e| fail(&e))?;
+    let samples = &buffer[..frame.buffer_size()];
+    let data = match frame.color_type {
+        png::ColorType::Rgb => samples.to_vec(),
+        png::ColorType::Rgba => samples.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
+        png::ColorType::Grayscale => samples.iter().flat_map(|&g| [g; 3]).collect(),
+        png::ColorType::GrayscaleAlpha => samples.chunks_exact(2).flat_map(|p| [p[0]; 3]).collect(),
+        png::ColorType::Indexed => return Err(fail(&"a palette image that was not expanded")),
+    };
+    Ok(Rgb8Image { width: frame.width, height: frame.height, data })
 }
 
 /// Writes the film as an sRGB PNG, atomically.
 pub fn write_film(path: &Path, film: &Film) -> Result<(), ImageError> {
-    write_png(path, &film_to_image(film))
+    write_png(path, &film_to_rgb8(film))
 }
 
 #[cfg(test)]
@@ -148,9 +172,9 @@ mod checkpoint1 {
         let film = Film::from_pixels(4, 3, pixels);
         write_film(&path, &film).unwrap();
         let back = read_png(&path).unwrap();
-        assert_eq!(back, film_to_image(&film), "8-bit values survive exactly");
+        assert_eq!(back, film_to_rgb8(&film), "8-bit values survive exactly");
         // Decoded, each value is within half an 8-bit step of the original, in sRGB terms.
-        for (a, b) in film.pixels().iter().zip(image_to_film(&back).pixels()) {
+        for (a, b) in film.pixels().iter().zip(rgb8_to_film(&back).pixels()) {
             for k in 0..3 {
                 assert!((linear_to_srgb(a[k]) - linear_to_srgb(b[k])).abs() <= 0.5 / 255.0 + 1e-6);
             }

@@ -33,6 +33,7 @@ pub mod integrator;
 pub mod light;
 pub mod material;
 pub mod math;
+pub mod progress;
 pub mod render;
 pub mod rng;
 pub mod sampling;

@@ -7,7 +7,6 @@
 //! With one sample per pixel the ray goes through the pixel centre and no random number is
 //! drawn; more samples go through [`estimate_pixel`] (checkpoint 7).
 
-use indicatif::ProgressBar;
 use rayon::prelude::*;
 
 use crate::film::Film;
@@ -20,8 +19,9 @@ use crate::scene::{RenderSettings, World};
 /// Side of a square tile, in pixels.
 const TILE: u32 = 16;
 
-/// Renders the world's scene with `settings`, advancing `progress` by one per finished pixel.
-pub fn render(world: &World, settings: &RenderSettings, progress: &ProgressBar) -> Film {
+/// Renders the world's scene with `settings`, calling `progress` with the number of pixels of
+/// every finished tile (`&|_| {}` for none; [`crate::progress::Progress`] prints).
+pub fn render(world: &World, settings: &RenderSettings, progress: &(dyn Fn(u64) + Sync)) -> Film {
     render_with(world, settings, Integrator::from_settings(settings), progress)
 }
 
@@ -30,7 +30,7 @@ pub fn render_with(
     world: &World,
     settings: &RenderSettings,
     integrator: Integrator,
-    progress: &ProgressBar,
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Film {
     let camera = &world.scene().camera;
     let (width, height) = (camera.width(), camera.height());
@@ -54,7 +54,7 @@ pub fn render_with(
                     }
                 })
                 .collect();
-            progress.inc(pixels.len() as u64);
+            progress(pixels.len() as u64);
             (corner, pixels)
         })
         .collect();

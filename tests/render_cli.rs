@@ -37,8 +37,8 @@ fn render_cli_writes_a_png_of_the_scene_size() {
     let out = render(&[scene.to_str().unwrap(), "-o", png.to_str().unwrap()]);
     assert!(out.status.success(), "{}", stderr_of(&out));
     let image = raylab::image_io::read_png(&png).unwrap();
-    assert_eq!((image.width(), image.height()), (16, 12));
-    assert!(image.pixels().any(|p| p[0] > 100), "the sphere is visible");
+    assert_eq!((image.width, image.height), (16, 12));
+    assert!(image.data.chunks_exact(3).any(|p| p[0] > 100), "the sphere is visible");
 }
 
 /// Each broken scene: (what is replaced, by what, the line the error must name, a word of it).

@@ -6,7 +6,6 @@
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use indicatif::ProgressBar;
 use raylab::geometry::SplitMethod;
 use raylab::render::render;
 use raylab::scene::{Scene, World};
@@ -23,7 +22,7 @@ fn render_scenes(c: &mut Criterion) {
         group.bench_function(name, |b| {
             b.iter(|| {
                 let world = World::new(&scene, SplitMethod::ObjectMedian);
-                render(&world, &scene.settings, &ProgressBar::hidden())
+                render(&world, &scene.settings, &|_| {})
             })
         });
     }

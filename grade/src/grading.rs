@@ -25,6 +25,7 @@ use indicatif::ProgressBar;
 use crate::cargo::{build_renderer, BUILD_TIME_LIMIT};
 use crate::child::{run_with_limit, CHILD_ENV};
 use crate::features::Masks;
+use crate::images::read_png;
 use crate::metrics::{Comparison, Measured};
 use crate::reference::{load_reference, Manifest};
 use crate::report::hint_text;
@@ -32,7 +33,6 @@ use crate::rubric::{Check, Checkpoint, GradedScene, Rubric};
 use crate::ssim::SsimMap;
 use crate::stub::stubbed_checkpoints;
 use crate::unit_tests::{build_tests, run_filter, TestRun};
-use raylab::image_io::read_png;
 
 /// A render may take this many times the reference's single-sample render time...
 const TIME_LIMIT_FACTOR: f64 = 20.0;

@@ -11,6 +11,7 @@ pub mod features;
 pub mod grading;
 pub mod heatmap;
 pub mod html;
+pub mod images;
 pub mod metrics;
 pub mod reference;
 pub mod report;

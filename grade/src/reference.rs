@@ -11,9 +11,10 @@ use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
 
 use crate::features::Masks;
+use crate::images::{film_to_image, read_png, write_png};
 use crate::rubric::{GradedScene, Rubric};
 use raylab::geometry::SplitMethod;
-use raylab::image_io::{film_to_image, read_png, write_file_atomic, write_png};
+use raylab::image_io::write_file_atomic;
 use raylab::scene::{Scene, World};
 
 /// `reference/manifest.toml`.
@@ -123,7 +124,7 @@ pub fn render_scene(
     settings.spp = spp;
     settings.seed = scene.seed;
     let world = World::new(&loaded, SplitMethod::ObjectMedian);
-    let film = raylab::render::render(&world, &settings, &ProgressBar::hidden());
+    let film = raylab::render::render(&world, &settings, &|_| {});
     Ok((loaded, film))
 }
 

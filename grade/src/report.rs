@@ -7,8 +7,8 @@ use serde_json::json;
 
 use crate::grading::GradeReport;
 use crate::heatmap::heatmap;
+use crate::images::write_png;
 use crate::rubric::Checkpoint;
-use raylab::image_io::write_png;
 
 /// The table a person reads: per scene, every check; then per checkpoint, the points and why
 /// points were lost, with the handout to read.

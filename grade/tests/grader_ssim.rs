@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use raylab::image_io::read_png;
+use raylab_grade::images::read_png;
 use raylab_grade::ssim::SsimMap;
 
 #[derive(serde::Deserialize)]

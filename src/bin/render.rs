@@ -15,8 +15,8 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use clap::Parser;
-use indicatif::{ProgressBar, ProgressStyle};
 use raylab::fallback::{stub_checkpoint, Fallbacks};
+use raylab::progress::Progress;
 use raylab::scene::Scene;
 
 /// Render a raylab scene to a PNG image.
@@ -94,18 +94,15 @@ fn run(args: Args) -> Result<(), (u8, String)> {
 
     let start = Instant::now();
     let pixels = scene.camera.width() as u64 * scene.camera.height() as u64;
-    // indicatif draws only when standard error is a terminal.
-    let progress = ProgressBar::new(pixels).with_style(
-        ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent}% ({eta} left)")
-            .map_err(|e| bad_input(e.to_string()))?
-            .progress_chars("=> "),
-    );
+    let progress = Progress::new("render", pixels);
     let mut fallbacks = Fallbacks::default();
     let (film, spp) = loop {
         let attempt = catch_unwind(AssertUnwindSafe(|| {
             let world = fallbacks.world(&scene);
             let (integrator, settings) = fallbacks.integrator(&settings);
-            let film = pool.install(|| raylab::render::render_with(&world, &settings, integrator, &progress));
+            let film = pool.install(|| {
+                raylab::render::render_with(&world, &settings, integrator, &|n| progress.advance(n))
+            });
             (film, settings.spp)
         }));
         let payload = match attempt {
@@ -119,10 +116,10 @@ fn run(args: Args) -> Result<(), (u8, String)> {
         let Some(stand_in) = fallbacks.take(checkpoint) else {
             return Err((1, format!("checkpoint {checkpoint} is not written yet, and nothing can be drawn without it ({message})")));
         };
-        progress.reset();
+        progress.restart();
         eprintln!("render: checkpoint {checkpoint} not written yet: {stand_in}");
     };
-    progress.finish_and_clear();
+    progress.finish();
     raylab::image_io::write_film(&args.output, &film).map_err(|e| bad_input(e.to_string()))?;
     eprintln!(
         "render: wrote {} ({}x{}, {spp} spp) in {:.2} s",

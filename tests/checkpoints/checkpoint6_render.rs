@@ -2,14 +2,12 @@
 //! at every pixel.
 
 mod checkpoint6 {
-    use std::f32::consts::PI;
-    use std::path::Path;
-
-    use indicatif::ProgressBar;
     use raylab::geometry::SplitMethod;
     use raylab::math::{Vec2, Vec3};
     use raylab::render::render;
     use raylab::scene::{Scene, World};
+    use std::f32::consts::PI;
+    use std::path::Path;
 
     const SCENE: &str = r#"
         [camera]
@@ -37,7 +35,7 @@ mod checkpoint6 {
     fn every_pixel_of_a_lit_floor_matches_albedo_over_pi_times_i_cos_over_r_squared() {
         let scene = Scene::from_toml(SCENE, Path::new("floor.toml")).unwrap();
         let world = World::new(&scene, SplitMethod::ObjectMedian);
-        let film = render(&world, &scene.settings, &ProgressBar::hidden());
+        let film = render(&world, &scene.settings, &|_| {});
         let (albedo, flux, light) =
             (Vec3::new(0.5, 0.25, 0.75), Vec3::new(10.0, 20.0, 30.0), Vec3::new(0.4, 1.2, -0.3));
         for y in 0..film.height() {

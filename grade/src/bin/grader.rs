@@ -12,8 +12,9 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use raylab::image_io::{read_png, write_file_atomic, write_png};
+use raylab::image_io::write_file_atomic;
 use raylab_grade::grading::{grade, GradeOptions};
+use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};
 use raylab_grade::reference::update_references;
 use raylab_grade::rubric::Rubric;
