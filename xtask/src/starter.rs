@@ -1,0 +1,165 @@
+//! The student starter: this repository's tracked files without the instructor's, every solution
+//! region replaced by its stub (`todo!("checkpoint N: ...")`, see `raylab_grade::stub`), and a
+//! check that no line of any solution survives.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use raylab_grade::stub::{region_bodies, rust_files};
+use raylab_grade::variants::stub_tree;
+
+use crate::{repository, CHECKPOINTS};
+
+/// Left out of the starter: instructor-only material (this generator, the benchmarks, the
+/// mistake catalogue and what it measured, and the instructor's CI, which runs them). Paths are
+/// relative to the repository; a folder leaves out everything below it.
+const INSTRUCTOR_ONLY: [&str; 9] = [
+    "xtask",
+    "bench",
+    ".ci",
+    "checkpoints/variants.toml",
+    "docs/CALIBRATION.md",
+    "docs/ZOO.md",
+    "docs/PERFORMANCE.md",
+    "grade/tests",
+    "tools",
+];
+
+/// The workspace section of the starter's `Cargo.toml`: the renderer and the grader only, in a
+/// workspace of its own, so the starter builds wherever it is unpacked.
+const STARTER_WORKSPACE: &str =
+    "# The root package is the renderer, what you read and edit; `grade/` is the grader that gives
+# you feedback (`cargo grader`). `cargo test` at the root builds and tests the renderer alone.
+[workspace]
+members = [\"grade\"]
+";
+
+/// Writes the starter into `out`, replacing what is there.
+pub fn starter(out: &Path) -> Result<(), String> {
+    let root = repository();
+    if out.exists() {
+        std::fs::remove_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    }
+    for file in starter_files(root)? {
+        let to = out.join(&file);
+        std::fs::create_dir_all(to.parent().unwrap_or(out)).map_err(|e| format!("{}: {e}", to.display()))?;
+        std::fs::copy(root.join(&file), &to).map_err(|e| format!("{}: {e}", file.display()))?;
+    }
+    let edit = |file: &str, change: &dyn Fn(&str) -> Result<String, String>| {
+        let path = out.join(file);
+        let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(&path, change(&text)?).map_err(|e| format!("{}: {e}", path.display()))
+    };
+    edit("Cargo.toml", &|text| {
+        let package = text.split("\n# Crates by audience.").next().unwrap_or(text).trim_end();
+        let shared = text.find("[workspace.package]").map_or("", |i| &text[i..]);
+        Ok(format!("{package}\n\n{STARTER_WORKSPACE}\n{shared}"))
+    })?;
+    edit(".cargo/config.toml", &|text| {
+        Ok(text.lines().filter(|l| !l.starts_with("xtask")).map(|l| format!("{l}\n")).collect())
+    })?;
+    edit("README.md", &student_readme)?;
+    stub_tree(&out.join("src"), &CHECKPOINTS).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
+    let survivors = surviving_solution_lines(&root.join("src"), &out.join("src"))?;
+    if !survivors.is_empty() {
+        return Err(format!("solution lines survive in the starter: {survivors:?}"));
+    }
+    Ok(())
+}
+
+/// The files the starter takes: those under version control (`git ls-files`, so nothing the
+/// working folder happens to hold, such as renders or reports, reaches students), without the
+/// instructor-only ones.
+fn starter_files(root: &Path) -> Result<Vec<PathBuf>, String> {
+    let out = std::process::Command::new("git")
+        .arg("-C")
+        .arg(root)
+        .args(["ls-files", "-z", "--cached"])
+        .output()
+        .map_err(|e| format!("cannot run git: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "git ls-files in {}: {}",
+            root.display(),
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    let listed =
+        String::from_utf8(out.stdout).map_err(|_| "git ls-files: a path is not UTF-8".to_string())?;
+    let instructor_only = |file: &Path| INSTRUCTOR_ONLY.iter().any(|p| file.starts_with(p));
+    Ok(listed
+        .split('\0')
+        .filter(|f| !f.is_empty())
+        .map(PathBuf::from)
+        .filter(|f| !instructor_only(f) && root.join(f).is_file())
+        .collect())
+}
+
+/// The README as students see it: blocks between `<!-- BEGIN INSTRUCTOR -->` and
+/// `<!-- END INSTRUCTOR -->` removed, and the text of `<!-- STUDENT ... -->` comments shown.
+fn student_readme(text: &str) -> Result<String, String> {
+    const BEGIN: &str = "<!-- BEGIN INSTRUCTOR -->\n";
+    const END: &str = "<!-- END INSTRUCTOR -->\n";
+    const STUDENT: &str = "<!-- STUDENT\n";
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(start) = rest.find(BEGIN) {
+        let end = rest[start..].find(END).ok_or("README.md: an instructor block is not closed")? + start;
+        out.push_str(&rest[..start]);
+        rest = &rest[end + END.len()..];
+    }
+    out.push_str(rest);
+    let mut shown = String::new();
+    let mut rest = out.as_str();
+    while let Some(start) = rest.find(STUDENT) {
+        let end = rest[start..].find("-->\n").ok_or("README.md: a student comment is not closed")? + start;
+        shown.push_str(&rest[..start]);
+        shown.push_str(&rest[start + STUDENT.len()..end]);
+        rest = &rest[end + "-->\n".len()..];
+    }
+    shown.push_str(rest);
+    Ok(shown)
+}
+
+/// Lines of solution regions (of at least 12 characters, not also found outside the regions)
+/// that still occur anywhere in the starter's sources.
+fn surviving_solution_lines(solution: &Path, starter: &Path) -> Result<Vec<String>, String> {
+    let (mut inside, mut outside) = (BTreeSet::new(), BTreeSet::new());
+    for text in rust_texts(solution)? {
+        let regions: Vec<_> = CHECKPOINTS.iter().flat_map(|&n| region_bodies(&text, n)).collect();
+        let mut offset = 0;
+        for line in text.split_inclusive('\n') {
+            let set = if regions.iter().any(|r| r.contains(&offset)) { &mut inside } else { &mut outside };
+            set.insert(line.trim().to_string());
+            offset += line.len();
+        }
+    }
+    let distinctive: BTreeSet<String> =
+        inside.difference(&outside).filter(|l| l.len() >= 12).cloned().collect();
+    let mut found = BTreeSet::new();
+    for text in rust_texts(starter)? {
+        found.extend(text.lines().map(str::trim).filter(|l| distinctive.contains(*l)).map(str::to_string));
+    }
+    Ok(found.into_iter().collect())
+}
+
+fn rust_texts(dir: &Path) -> Result<Vec<String>, String> {
+    rust_files(dir).map_err(|e| format!("{}: {e}", dir.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_student_readme_drops_instructor_blocks_and_shows_student_notes() {
+        let text =
+            "a\n<!-- BEGIN INSTRUCTOR -->\nsecret\n<!-- END INSTRUCTOR -->\n<!-- STUDENT\nhello\n-->\nb\n";
+        assert_eq!(student_readme(text).unwrap(), "a\nhello\nb\n");
+        assert!(student_readme("<!-- BEGIN INSTRUCTOR -->\nopen").is_err());
+        let readme = std::fs::read_to_string(repository().join("README.md")).unwrap();
+        let student = student_readme(&readme).unwrap();
+        assert!(!student.contains("reference solution") && !student.contains("cargo xtask"), "{student}");
+        assert!(student.contains("Your tasks are the `todo!("));
+    }
+}

@@ -1,0 +1,57 @@
+//! The stub matrix: each checkpoint N stubbed alone, in a scratch tree, fails all of its own
+//! tests and passes every test of the checkpoints before it.
+
+use std::time::Duration;
+
+use raylab_grade::unit_tests::{build_tests, run_filter};
+use raylab_grade::variants::{make_scratch_tree, Variant};
+
+use crate::repository;
+
+/// Builds each single-checkpoint stub in a scratch tree (one shared target folder) and runs the
+/// test filters of that checkpoint and the ones before it.
+pub fn stub_matrix() -> Result<(), String> {
+    let work = repository().join("target/stub-matrix");
+    // One target folder for every stub: cargo then reuses the dependencies built for earlier ones.
+    let (tree, target) = (work.join("tree"), work.join("target"));
+    let mut problems = Vec::new();
+    for n in 2..=7 {
+        let variant = Variant {
+            name: format!("stub_{n}"),
+            checkpoint: n,
+            correct: false,
+            description: format!("checkpoint {n} stubbed alone"),
+            fails: Vec::new(),
+            seeds: Vec::new(),
+            stub: true,
+            patches: Vec::new(),
+        };
+        make_scratch_tree(repository(), &tree, &variant)?;
+        build_tests(&tree, Some(&target), Duration::from_secs(900))
+            .map_err(|e| format!("stub {n}: the tests do not build: {e}"))?;
+        let mut row = format!("checkpoint {n} stubbed:");
+        for m in 1..=n {
+            let run = run_filter(&tree, Some(&target), &format!("checkpoint{m}"), Duration::from_secs(300));
+            row += &format!("  {m}: {}/{}", run.passed, run.passed + run.failed);
+            let ok = if m < n {
+                run.error.is_none() && run.failed == 0 && run.passed > 0
+            } else {
+                run.passed == 0 && run.failed > 0
+            };
+            if !ok {
+                problems.push(format!(
+                    "with checkpoint {n} stubbed, checkpoint {m}: {} passed, {} failed{}",
+                    run.passed,
+                    run.failed,
+                    run.error.map(|e| format!(" ({e})")).unwrap_or_default()
+                ));
+            }
+        }
+        println!("{row}");
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
+}

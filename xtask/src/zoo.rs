@@ -1,0 +1,86 @@
+//! The mistake catalogue's run: which unit test or scene catches each variant of
+//! `checkpoints/variants.toml` (docs/ZOO.md).
+
+use std::time::Duration;
+
+use raylab_grade::calibrate::grade_images;
+use raylab_grade::unit_tests::{build_tests, run_filter};
+use raylab_grade::variants::{check_patches, make_scratch_tree, VariantFile};
+
+use crate::repository;
+
+/// For every variant but the solution and the stubs: its own checkpoint's unit tests (all tests,
+/// for a correct alternative) and every scene's checks. A mistake must be caught by its own
+/// checkpoint's tests or by a scene grading that checkpoint; a correct alternative must pass all.
+pub fn zoo() -> Result<(), String> {
+    let root = repository();
+    let work = root.join("target/zoo");
+    let (tree, target) = (work.join("tree"), work.join("target"));
+    let rubric = raylab_grade::rubric::Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
+    check_patches(root, &variants)?;
+    let mut rows = vec![
+        "| variant | checkpoint | kind | failing unit tests | failing scenes | verdict |".to_string(),
+        "|---|---|---|---|---|---|".to_string(),
+    ];
+    let mut problems = Vec::new();
+    for v in variants.iter().filter(|v| !v.stub && !v.patches.is_empty()) {
+        make_scratch_tree(root, &tree, v)?;
+        // A correct alternative must pass every checkpoint's tests (`checkpoint` matches them all;
+        // the harness's own snapshots describe the reference solution and may differ).
+        let filter = if v.correct { "checkpoint".to_string() } else { format!("checkpoint{}", v.checkpoint) };
+        let tests = match build_tests(&tree, Some(&target), Duration::from_secs(900)) {
+            Ok(()) => run_filter(&tree, Some(&target), &filter, Duration::from_secs(300)),
+            Err(e) => return Err(format!("{}: does not build: {e}", v.name)),
+        };
+        let failing_tests: Vec<String> =
+            tests.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f).to_string()).collect();
+        let values = grade_images(&tree, &target, None)?;
+        let graders_of = |scene: &str| {
+            rubric.scenes.iter().find(|s| s.name == scene).map_or(Vec::new(), |s| s.grades.clone())
+        };
+        let failing_scenes: Vec<String> = values
+            .as_object()
+            .into_iter()
+            .flatten()
+            .filter(|(_, s)| s["passed"].as_bool() != Some(true))
+            .map(|(name, _)| name.clone())
+            .collect();
+        let caught_by_scene = failing_scenes.iter().any(|s| graders_of(s).contains(&v.checkpoint));
+        let verdict =
+            match (v.correct, failing_tests.is_empty() && tests.error.is_none(), failing_scenes.is_empty()) {
+                (true, true, true) => "passes everything",
+                (true, _, _) => "CORRECT BUT FAILS",
+                (false, false, _) => "caught",
+                (false, true, _) if caught_by_scene => "caught",
+                (false, true, _) => "NOT CAUGHT",
+            };
+        if verdict != "caught" && verdict != "passes everything" {
+            problems.push(format!("{}: {verdict}", v.name));
+        }
+        let kind = if v.correct { "correct" } else { "mistake" };
+        let list = |xs: &[String]| if xs.is_empty() { "-".to_string() } else { xs.join(", ") };
+        let row = format!(
+            "| {} | {} | {kind} | {} | {} | {verdict} |",
+            v.name,
+            v.checkpoint,
+            list(&failing_tests),
+            list(&failing_scenes)
+        );
+        println!("{row}");
+        rows.push(row);
+    }
+    let table = format!(
+        "# The mistake catalogue\n\nWritten by `cargo xtask zoo`: every variant of `checkpoints/variants.toml` (but the \
+         stubs, which `cargo xtask stub-matrix` covers), with the unit tests of its checkpoint (all tests for a correct \
+         alternative) and the graded scenes that fail. A mistake must be caught by its own checkpoint's tests or by a \
+         scene grading that checkpoint.\n\n{}\n",
+        rows.join("\n")
+    );
+    std::fs::write(root.join("docs/ZOO.md"), table).map_err(|e| format!("docs/ZOO.md: {e}"))?;
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
+}
