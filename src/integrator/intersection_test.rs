@@ -26,6 +26,13 @@
 use crate::math::{Ray, Vec3};
 use crate::scene::{SurfaceHit, World};
 
+// Used by the solution regions below; the starter's stubs do not use them yet.
+#[allow(unused_imports)]
+use {
+    crate::material::{refract_or_reflect, Material},
+    crate::math::spawn_ray,
+};
+
 /// The diffuse surface a path reaches, and the direction back along the path.
 #[derive(Clone, Copy, Debug)]
 pub struct DiffuseHit<'a> {
@@ -41,8 +48,6 @@ pub struct DiffuseHit<'a> {
 /// meets; `None` if it escapes or needs more bounces.
 pub fn trace_to_diffuse<'a>(world: &World<'a>, ray: Ray, max_depth: u32) -> Option<DiffuseHit<'a>> {
     // BEGIN SOLUTION checkpoint5
-    use crate::material::{refract_or_reflect, Material};
-    use crate::math::spawn_ray;
     let mut ray = ray;
     for _bounce in 0..=max_depth {
         let hit = world.intersect(&ray)?;
