@@ -4,6 +4,7 @@
 //! [`rubric`] says what is graded, [`reference`] keeps the reference images, [`features`] the masks
 //! made with them, [`ssim`] and [`metrics`] score a render.
 
+pub mod allow;
 pub mod calibrate;
 pub mod cargo;
 pub mod child;
