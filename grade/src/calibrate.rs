@@ -66,12 +66,10 @@ pub fn run_all(root: &Path, progress: &ProgressBar) -> Result<Vec<Run>, String> 
 /// value, per scene. `Err` for bad input (a broken rubric or reference), not for a broken tree.
 pub fn grade_images(tree: &Path, target: &Path, seed: Option<u64>) -> Result<Value, String> {
     let options = GradeOptions {
-        root: tree.to_path_buf(),
         target: Some(target.to_path_buf()),
-        checkpoints: None,
-        scenes: None,
         run_tests: false,
         seed,
+        ..GradeOptions::new(tree)
     };
     Ok(grade(&options, &ProgressBar::hidden())?.values())
 }

@@ -37,17 +37,18 @@ pub fn build_renderer(root: &Path, target: Option<&Path>) -> Result<PathBuf, Str
     if !run.success() {
         return Err(first_error(&run, BUILD_TIME_LIMIT));
     }
-    executable(&run.stdout).ok_or_else(|| "cargo built no `render` executable".to_string())
+    executables(&run.stdout, false).pop().ok_or_else(|| "cargo built no `render` executable".to_string())
 }
 
-/// The `executable` of the last compiler artifact in cargo's JSON messages.
-fn executable(messages: &str) -> Option<PathBuf> {
+/// The executables of the compiler artifacts in cargo's JSON messages: the test harnesses if
+/// `tests`, else the binaries.
+pub fn executables(messages: &str, tests: bool) -> Vec<PathBuf> {
     messages
         .lines()
-        .rev()
         .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
-        .filter(|m| m["reason"] == "compiler-artifact")
-        .find_map(|m| m["executable"].as_str().map(PathBuf::from))
+        .filter(|m| m["reason"] == "compiler-artifact" && m["profile"]["test"].as_bool() == Some(tests))
+        .filter_map(|m| m["executable"].as_str().map(PathBuf::from))
+        .collect()
 }
 
 #[cfg(test)]
@@ -57,14 +58,17 @@ mod tests {
     #[test]
     fn the_executable_is_read_from_cargos_artifact_messages() {
         let messages = concat!(
-            r#"{"reason":"compiler-artifact","target":{"name":"raylab"},"executable":null}"#,
+            r#"{"reason":"compiler-artifact","profile":{"test":false},"executable":null}"#,
             "\n",
-            r#"{"reason":"compiler-artifact","target":{"name":"render"},"executable":"/t/debug/render"}"#,
+            r#"{"reason":"compiler-artifact","profile":{"test":false},"executable":"/t/debug/render"}"#,
+            "\n",
+            r#"{"reason":"compiler-artifact","profile":{"test":true},"executable":"/t/debug/deps/raylab-1"}"#,
             "\n",
             r#"{"reason":"build-finished","success":true}"#,
             "\n"
         );
-        assert_eq!(executable(messages), Some(PathBuf::from("/t/debug/render")));
-        assert_eq!(executable(r#"{"reason":"build-finished","success":true}"#), None);
+        assert_eq!(executables(messages, false), vec![PathBuf::from("/t/debug/render")]);
+        assert_eq!(executables(messages, true), vec![PathBuf::from("/t/debug/deps/raylab-1")]);
+        assert!(executables(r#"{"reason":"build-finished","success":true}"#, false).is_empty());
     }
 }

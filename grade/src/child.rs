@@ -1,5 +1,11 @@
 //! Running work in a child process with a time limit, so that whatever the student's code does
-//! (panic, stack overflow, abort, endless loop) the grader survives and reports why.
+//! (panic, stack overflow, abort, endless loop, a thread or process that never ends, eating
+//! memory, printing without end) the grader survives and reports why in one line.
+//!
+//! Every child runs in a process group of its own, and the whole group is killed when the child
+//! ends or its wall-clock time is up: nothing it started outlives it. Children that run graded
+//! code ([`Limits::GRADED`]) also get resource limits that hold even for root: address space,
+//! CPU time, and the size of any file they write.
 
 use std::path::PathBuf;
 use std::process::{Command, ExitStatus, Stdio};
@@ -12,6 +18,21 @@ pub const CHILD_ENV: &str = "RAYLAB_GRADER_CHILD";
 /// The `render` binary prints a panic's message on one line starting with this.
 pub const PANIC_PREFIX: &str = "render: panicked: ";
 
+/// Resource limits for a child, beyond its wall-clock time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Address space, in bytes (`RLIMIT_AS`); an allocation beyond it fails.
+    pub memory: u64,
+    /// Largest file the child may write, in bytes (`RLIMIT_FSIZE`).
+    pub file_size: u64,
+}
+
+impl Limits {
+    /// For graded code (renders, unit tests): 4 GiB of address space (a correct render needs a
+    /// few hundred MiB, thread stacks and allocator arenas included), files of at most 64 MiB.
+    pub const GRADED: Option<Limits> = Some(Limits { memory: 4 << 30, file_size: 64 << 20 });
+}
+
 /// How a child ended.
 #[derive(Clone, Debug)]
 pub struct ChildRun {
@@ -23,6 +44,8 @@ pub struct ChildRun {
     pub stderr: String,
     /// Wall-clock seconds.
     pub seconds: f64,
+    /// The limits it ran under.
+    pub limits: Option<Limits>,
 }
 
 impl ChildRun {
@@ -31,13 +54,10 @@ impl ChildRun {
         self.status.is_some_and(|s| s.success())
     }
 
-    /// One line saying why it failed: the panic message, a crash signal, or the time limit.
+    /// One line saying why it failed: the panic message, a crash, a limit it reached.
     pub fn failure_reason(&self, limit: Duration) -> String {
         let Some(status) = self.status else {
-            return format!(
-                "did not finish within the time limit of {:.0} s (endless loop?)",
-                limit.as_secs_f64()
-            );
+            return format!("did not finish within the time limit of {:.0} s", limit.as_secs_f64());
         };
         if let Some(line) = self.stderr.lines().find_map(|l| l.strip_prefix(PANIC_PREFIX)) {
             return format!("panicked: {line}");
@@ -45,19 +65,42 @@ impl ChildRun {
         if self.stderr.contains("has overflowed its stack") {
             return "crashed: stack overflow (unbounded recursion?)".to_string();
         }
+        if let (Some(line), Some(limits)) =
+            (self.stderr.lines().find(|l| l.contains("memory allocation of")), self.limits)
+        {
+            return format!("ran out of memory (the limit is {} MiB): {}", limits.memory >> 20, line.trim());
+        }
         #[cfg(unix)]
         if let Some(signal) = std::os::unix::process::ExitStatusExt::signal(&status) {
-            return format!("crashed with signal {signal}");
+            return match (signal, self.limits) {
+                (libc::SIGXCPU, _) => "used up its CPU time (endless loop?)".to_string(),
+                (libc::SIGXFSZ, Some(l)) => {
+                    format!("wrote a file larger than the limit of {} MiB", l.file_size >> 20)
+                }
+                (libc::SIGABRT, _) => "crashed: aborted".to_string(),
+                (libc::SIGKILL, _) => "was killed (by the system's out-of-memory killer?)".to_string(),
+                (libc::SIGSEGV, _) => "crashed: segmentation fault".to_string(),
+                _ => format!("crashed with signal {signal}"),
+            };
         }
         let last = self.stderr.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("no message");
         format!("failed ({status}): {last}")
     }
 }
 
-/// Runs `command` for at most `limit`, killing it when the time is up. Callers mark grader
-/// children with [`CHILD_ENV`].
-/// Output goes through temporary files, so a child printing a lot never blocks on a full pipe.
-pub fn run_with_limit(mut command: Command, limit: Duration) -> std::io::Result<ChildRun> {
+/// Runs `command` for at most `limit` (wall clock) under `limits`, then kills its process group.
+/// Callers mark grader children with [`CHILD_ENV`]. Output goes through temporary files, so a
+/// child printing a lot never blocks on a full pipe; each stream is read back up to 1 MiB.
+pub fn run_with_limit(command: Command, limit: Duration) -> std::io::Result<ChildRun> {
+    run_limited(command, limit, None)
+}
+
+/// [`run_with_limit`] with resource limits (see [`Limits::GRADED`]).
+pub fn run_limited(
+    mut command: Command,
+    limit: Duration,
+    limits: Option<Limits>,
+) -> std::io::Result<ChildRun> {
     static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
     let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let base: PathBuf = std::env::temp_dir().join(format!("raylab-grader-{}-{n}", std::process::id()));
@@ -66,6 +109,8 @@ pub fn run_with_limit(mut command: Command, limit: Duration) -> std::io::Result<
         .stdin(Stdio::null())
         .stdout(std::fs::File::create(&out_path)?)
         .stderr(std::fs::File::create(&err_path)?);
+    #[cfg(unix)]
+    isolate(&mut command, limit, limits);
     let start = Instant::now();
     let mut child = command.spawn()?;
     let status = loop {
@@ -73,16 +118,112 @@ pub fn run_with_limit(mut command: Command, limit: Duration) -> std::io::Result<
             break Some(status);
         }
         if start.elapsed() >= limit {
-            let _ = child.kill();
-            let _ = child.wait();
             break None;
         }
         std::thread::sleep(Duration::from_millis(10));
     };
+    // The child and everything it started: a test binary under cargo, a thread-holding grandchild.
+    #[cfg(unix)]
+    kill_group(child.id());
+    let _ = child.kill();
+    let _ = child.wait();
     let seconds = start.elapsed().as_secs_f64();
-    let read = |p: &PathBuf| String::from_utf8_lossy(&std::fs::read(p).unwrap_or_default()).into_owned();
-    let run = ChildRun { status, stdout: read(&out_path), stderr: read(&err_path), seconds };
+    let read = |p: &PathBuf| {
+        let bytes = std::fs::read(p).unwrap_or_default();
+        String::from_utf8_lossy(&bytes[..bytes.len().min(1 << 20)]).into_owned()
+    };
+    let run = ChildRun { status, stdout: read(&out_path), stderr: read(&err_path), seconds, limits };
     let _ = std::fs::remove_file(out_path);
     let _ = std::fs::remove_file(err_path);
     Ok(run)
+}
+
+/// A process group of its own (so [`kill_group`] reaches everything the child starts), and the
+/// resource limits, set in the child between fork and exec.
+#[cfg(unix)]
+fn isolate(command: &mut Command, limit: Duration, limits: Option<Limits>) {
+    use std::os::unix::process::CommandExt;
+    command.process_group(0);
+    let Some(limits) = limits else { return };
+    // CPU seconds: the wall-clock limit on every core, so a busy correct render never meets it
+    // before the wall clock does; it stops a spinning child the wall clock has not reached yet.
+    let cpu = limit.as_secs().max(1) * std::thread::available_parallelism().map_or(2, |n| n.get() as u64);
+    let set = move || {
+        let pairs = [
+            (libc::RLIMIT_AS, limits.memory),
+            (libc::RLIMIT_FSIZE, limits.file_size),
+            (libc::RLIMIT_CPU, cpu),
+        ];
+        for (resource, value) in pairs {
+            let rlimit = libc::rlimit { rlim_cur: value as libc::rlim_t, rlim_max: value as libc::rlim_t };
+            // SAFETY: setrlimit is async-signal-safe and only reads the struct passed to it.
+            if unsafe { libc::setrlimit(resource, &rlimit) } != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+        }
+        Ok(())
+    };
+    // SAFETY: the closure calls only setrlimit, which is safe between fork and exec.
+    unsafe {
+        command.pre_exec(set);
+    }
+}
+
+/// Kills the process group `id` leads (the child's own, see [`isolate`]), if any is left.
+#[cfg(unix)]
+fn kill_group(id: u32) {
+    if let Ok(pid) = libc::pid_t::try_from(id) {
+        // SAFETY: kill only sends a signal; a group that no longer exists gives ESRCH, ignored.
+        unsafe {
+            libc::kill(-pid, libc::SIGKILL);
+        }
+    }
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    fn sh(script: &str) -> Command {
+        let mut c = Command::new("sh");
+        c.arg("-c").arg(script);
+        c
+    }
+
+    /// A marker file that a background job of the child would create after a second.
+    fn marker_after_a_second(name: &str) -> (PathBuf, String) {
+        let marker = std::env::temp_dir().join(format!("raylab-{name}-{}", std::process::id()));
+        let job = format!("(sleep 1; touch {}) &", marker.display());
+        (marker, job)
+    }
+
+    #[test]
+    fn grader_kills_what_a_child_leaves_running() {
+        let (marker, job) = marker_after_a_second("orphan");
+        let run = run_with_limit(sh(&format!("{job} exit 0")), Duration::from_secs(10)).unwrap();
+        assert!(run.success());
+        std::thread::sleep(Duration::from_millis(1500));
+        assert!(!marker.exists(), "the background job outlived its parent");
+    }
+
+    #[test]
+    fn grader_stops_a_child_and_its_group_at_the_time_limit() {
+        let (marker, job) = marker_after_a_second("timeout");
+        let limit = Duration::from_millis(300);
+        let run = run_with_limit(sh(&format!("{job} sleep 30")), limit).unwrap();
+        assert!(run.status.is_none() && run.failure_reason(limit).contains("time limit"));
+        std::thread::sleep(Duration::from_millis(1500));
+        assert!(!marker.exists(), "the background job outlived the time limit");
+    }
+
+    #[test]
+    fn grader_limits_the_size_of_files_a_graded_child_writes() {
+        let limits = Some(Limits { memory: 4 << 30, file_size: 1 << 20 });
+        let path = std::env::temp_dir().join(format!("raylab-big-{}", std::process::id()));
+        let script = format!("head -c 4000000 /dev/zero > {}", path.display());
+        let run = run_limited(sh(&script), Duration::from_secs(10), limits).unwrap();
+        let size = std::fs::metadata(&path).map_or(0, |m| m.len());
+        let _ = std::fs::remove_file(&path);
+        assert!(!run.success() && size <= 1 << 20, "wrote {size} bytes");
+    }
 }

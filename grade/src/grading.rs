@@ -23,7 +23,7 @@ use image::RgbImage;
 use indicatif::ProgressBar;
 
 use crate::cargo::{build_renderer, BUILD_TIME_LIMIT};
-use crate::child::{run_with_limit, CHILD_ENV};
+use crate::child::{run_limited, Limits, CHILD_ENV};
 use crate::features::Masks;
 use crate::images::read_png;
 use crate::metrics::{Comparison, Measured};
@@ -32,7 +32,7 @@ use crate::report::hint_text;
 use crate::rubric::{Check, Checkpoint, GradedScene, Rubric};
 use crate::ssim::SsimMap;
 use crate::stub::stubbed_checkpoints;
-use crate::unit_tests::{build_tests, run_filter, TestRun};
+use crate::unit_tests::{build_tests, TestRun};
 
 /// A render may take this many times the reference's single-sample render time...
 const TIME_LIMIT_FACTOR: f64 = 20.0;
@@ -46,8 +46,16 @@ const TEST_TIME_LIMIT: Duration = Duration::from_secs(120);
 pub struct GradeOptions {
     /// The repository: rubric, scenes, references, and the crate whose tests run.
     pub root: PathBuf,
+    /// The tree whose renderer and tests are built and run, if not `root` (a submission spliced
+    /// into a scratch copy of the instructor's tree, without the references).
+    pub code: Option<PathBuf>,
     /// Cargo's target folder for the tree's builds (its own `target/` if `None`).
     pub target: Option<PathBuf>,
+    /// Environment added for every render and test child (which checkpoints run a submission's
+    /// code, see [`crate::splice`]).
+    pub env: Vec<(String, String)>,
+    /// The checkpoints that are still the starter's stubs, if known (else read from the code).
+    pub not_started: Option<Vec<u32>>,
     /// Only these checkpoints (all if `None`).
     pub checkpoints: Option<Vec<u32>>,
     /// Only these scenes, by name (all the checkpoints' scenes if `None`).
@@ -56,6 +64,23 @@ pub struct GradeOptions {
     pub run_tests: bool,
     /// Render with this seed instead of the rubric's (calibration tries several).
     pub seed: Option<u64>,
+}
+
+impl GradeOptions {
+    /// Everything in `root`: all checkpoints and scenes, tests included, the rubric's seeds.
+    pub fn new(root: impl Into<PathBuf>) -> Self {
+        Self {
+            root: root.into(),
+            code: None,
+            target: None,
+            env: Vec::new(),
+            not_started: None,
+            checkpoints: None,
+            scenes: None,
+            run_tests: true,
+            seed: None,
+        }
+    }
 }
 
 /// The outcome of one graded scene.
@@ -190,15 +215,19 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         load_reference(root, scene)?;
     }
 
+    let code = options.code.as_deref().unwrap_or(root);
     let test_steps = if options.run_tests { tested.len() + 1 } else { 0 };
     progress.set_length((test_steps + 1 + scenes.len()) as u64);
     let target = options.target.as_deref();
-    let tests = options.run_tests.then(|| run_unit_tests(root, target, &tested, progress));
+    let tests = options.run_tests.then(|| run_unit_tests(code, target, &options.env, &tested, progress));
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
-    let stubbed =
-        stubbed_checkpoints(&root.join("src"), &ids).map_err(|e| format!("{}/src: {e}", root.display()))?;
+    let stubbed = match &options.not_started {
+        Some(ids) => ids.clone(),
+        None => stubbed_checkpoints(&code.join("src"), &ids)
+            .map_err(|e| format!("{}/src: {e}", code.display()))?,
+    };
     progress.set_message("building the renderer");
-    let renderer = build_renderer(root, target).map_err(|e| format!("the renderer does not build: {e}"));
+    let renderer = build_renderer(code, target).map_err(|e| format!("the renderer does not build: {e}"));
     progress.inc(1);
     let mut scene_results = Vec::new();
     for scene in scenes {
@@ -245,20 +274,21 @@ fn selected_scenes(
 
 /// Builds the tests once, then runs each checkpoint's filter.
 fn run_unit_tests(
-    root: &Path,
+    code: &Path,
     target: Option<&Path>,
+    env: &[(String, String)],
     checkpoints: &[&Checkpoint],
     progress: &ProgressBar,
 ) -> TestRuns {
     progress.set_message("compiling the tests");
-    let built = build_tests(root, target, BUILD_TIME_LIMIT);
+    let built = build_tests(code, target, BUILD_TIME_LIMIT);
     progress.inc(1);
     checkpoints
         .iter()
         .map(|c| {
             progress.set_message(format!("testing checkpoint {}", c.id));
             let run = match &built {
-                Ok(()) => run_filter(root, target, &c.test_filter, TEST_TIME_LIMIT),
+                Ok(binaries) => binaries.run_filter(code, &c.test_filter, env, TEST_TIME_LIMIT),
                 Err(e) => {
                     TestRun { error: Some(format!("the tests do not compile: {e}")), ..TestRun::default() }
                 }
@@ -277,14 +307,19 @@ fn grade_scene(
     limit: Duration,
 ) -> Result<SceneResult, String> {
     let (reference, masks) = load_reference(&options.root, &scene)?;
+    // Absolute: the renderer runs in a scratch folder, not in the tree.
+    let code = options.code.as_deref().unwrap_or(&options.root);
+    let code = std::path::absolute(code).map_err(|e| format!("{}: {e}", code.display()))?;
     let out = std::env::temp_dir().join(format!("raylab-grader-{}-{}.png", std::process::id(), scene.name));
     let seed = options.seed.unwrap_or(scene.seed);
     let (rendered, seconds) = match renderer {
         Ok(renderer) => {
             let mut command = Command::new(renderer);
             command
+                .current_dir(std::env::temp_dir())
                 .env(CHILD_ENV, "1")
-                .arg(options.root.join(&scene.file))
+                .envs(options.env.iter().map(|(k, v)| (k, v)))
+                .arg(code.join(&scene.file))
                 .arg("--output")
                 .arg(&out)
                 .arg("--spp")
@@ -293,9 +328,11 @@ fn grade_scene(
                 .arg(seed.to_string())
                 // Stand-ins are never graded: a stub fails the scene.
                 .arg("--no-fallbacks");
-            let run = run_with_limit(command, limit)
+            let run = run_limited(command, limit, Limits::GRADED)
                 .map_err(|e| format!("cannot start {}: {e}", renderer.display()))?;
-            let rendered = if run.success() {
+            let rendered = if run.success() && !out.exists() {
+                Err("the renderer exited without writing an image".to_string())
+            } else if run.success() {
                 read_png(&out).map_err(|e| e.to_string())
             } else {
                 Err(run.failure_reason(limit))

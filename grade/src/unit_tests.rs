@@ -1,11 +1,17 @@
-//! Running a checkpoint's unit tests (`cargo test <filter>`) as a child process and counting.
+//! Running a checkpoint's unit tests and counting them by exit status, one process per test.
+//!
+//! The test binaries are built once (`cargo test --no-run`). Their test names come from
+//! `--list`, which runs no test code; then every test whose name contains the checkpoint's
+//! filter runs alone (`--exact NAME`) in its own process, and passes if and only if that process
+//! exits with status 0 in time. Nothing a test prints is read for the count: a solution region
+//! printing `test result: ok. 40 passed` changes nothing.
 
-use std::path::Path;
-use std::time::Duration;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
 
-use crate::cargo::{cargo, first_error};
-use crate::child::run_with_limit;
-
+use crate::cargo::{cargo, executables, first_error};
+use crate::child::{run_limited, run_with_limit, Limits, CHILD_ENV};
 /// What one `cargo test <filter>` run found.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TestRun {
@@ -15,8 +21,10 @@ pub struct TestRun {
     pub failed: u32,
     /// Names of the failing tests.
     pub failures: Vec<String>,
-    /// Why the run itself went wrong (no compile, crash, time limit), if it did.
+    /// Why the run itself went wrong (no compile, no test binary, time limit), if it did.
     pub error: Option<String>,
+    /// The first failing test and what it said (for a student: where to look first).
+    pub first_failure: Option<(String, String)>,
 }
 
 impl TestRun {
@@ -34,67 +42,116 @@ impl TestRun {
 /// checkpoint integration tests (`tests/checkpoints/`). Leaving out the CLI tests saves a link.
 const CHECKPOINT_TARGETS: [&str; 3] = ["--lib", "--test", "checkpoints"];
 
-/// Compiles the checkpoint test binaries once (`cargo test --no-run`); `Err` carries the first
-/// compiler error.
-pub fn build_tests(root: &Path, target: Option<&Path>, limit: Duration) -> Result<(), String> {
-    let args = [&["test", "--no-run", "--quiet"][..], &CHECKPOINT_TARGETS].concat();
+/// A checkpoint test binary of a tree, and its tests.
+#[derive(Clone, Debug)]
+struct TestBinary {
+    executable: PathBuf,
+    tests: Vec<String>,
+}
+
+/// The checkpoint test binaries of a tree, built.
+#[derive(Clone, Debug)]
+pub struct TestBinaries {
+    binaries: Vec<TestBinary>,
+}
+
+/// One test may take this long; a correct one takes well under a second.
+const TEST_TIME_LIMIT: Duration = Duration::from_secs(30);
+
+/// Compiles the checkpoint test binaries once (`cargo test --no-run`) and lists their tests;
+/// `Err` carries the first compiler error.
+pub fn build_tests(root: &Path, target: Option<&Path>, limit: Duration) -> Result<TestBinaries, String> {
+    let args =
+        [&["test", "--no-run", "--message-format=json-render-diagnostics"][..], &CHECKPOINT_TARGETS].concat();
     let run =
         run_with_limit(cargo(root, target, &args), limit).map_err(|e| format!("cannot run cargo: {e}"))?;
-    if run.success() {
-        Ok(())
-    } else {
-        Err(first_error(&run, limit))
+    if !run.success() {
+        return Err(first_error(&run, limit));
     }
+    let binaries = executables(&run.stdout, true)
+        .into_iter()
+        .map(|executable| {
+            let tests = list_tests(root, &executable)?;
+            Ok(TestBinary { executable, tests })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(TestBinaries { binaries })
 }
 
-/// Runs `cargo test --no-fail-fast <filter>` over the checkpoint test binaries in `root` and
-/// counts passes and failures.
-pub fn run_filter(root: &Path, target: Option<&Path>, filter: &str, limit: Duration) -> TestRun {
-    let args = [&["test", "--no-fail-fast"][..], &CHECKPOINT_TARGETS, &[filter]].concat();
-    let run = match run_with_limit(cargo(root, target, &args), limit) {
-        Ok(run) => run,
-        Err(e) => return TestRun { error: Some(format!("cannot run cargo: {e}")), ..TestRun::default() },
-    };
-    let mut result = parse_test_output(&run.stdout);
-    // A test binary that aborts (stack overflow, abort) prints no summary: the counts above miss
-    // its tests, so the run is not trusted.
-    if !run.success() && result.failed == 0 {
-        result.error = Some(format!("the test run {}", run.failure_reason(limit)));
+/// The names of the tests in a test binary (`--list` runs none of them).
+fn list_tests(root: &Path, executable: &Path) -> Result<Vec<String>, String> {
+    let mut command = Command::new(executable);
+    command.current_dir(root).env(CHILD_ENV, "1").args(["--list", "--format", "terse"]);
+    let run = run_limited(command, TEST_TIME_LIMIT, Limits::GRADED).map_err(|e| e.to_string())?;
+    if !run.success() {
+        return Err(format!(
+            "cannot list the tests of {}: {}",
+            executable.display(),
+            run.failure_reason(TEST_TIME_LIMIT)
+        ));
     }
-    result
+    Ok(run.stdout.lines().filter_map(|l| l.strip_suffix(": test")).map(str::to_string).collect())
 }
 
-/// Sums `test result:` lines and collects `test NAME ... FAILED` lines of libtest's output.
-pub fn parse_test_output(stdout: &str) -> TestRun {
-    let mut result = TestRun::default();
-    for line in stdout.lines() {
-        if let Some(summary) = line.strip_prefix("test result: ") {
-            let count = |word: &str| {
-                summary.split(';').find_map(|part| {
-                    part.trim().strip_suffix(word)?.trim().rsplit(' ').next()?.parse::<u32>().ok()
-                })
-            };
-            result.passed += count("passed").unwrap_or(0);
-            result.failed += count("failed").unwrap_or(0);
-        } else if let Some(name) = line.strip_prefix("test ").and_then(|l| l.strip_suffix(" ... FAILED")) {
-            result.failures.push(name.to_string());
+impl TestBinaries {
+    /// The names of the tests whose name contains `filter` (as `cargo test FILTER` selects).
+    pub fn names(&self, filter: &str) -> Vec<&str> {
+        self.binaries
+            .iter()
+            .flat_map(|b| b.tests.iter().filter(|t| t.contains(filter)).map(String::as_str))
+            .collect()
+    }
+
+    /// Runs every test whose name contains `filter`, each alone in its own process (in `root`,
+    /// with `env` added), for at most `limit` in all; a test passes if its process exits 0.
+    pub fn run_filter(
+        &self,
+        root: &Path,
+        filter: &str,
+        env: &[(String, String)],
+        limit: Duration,
+    ) -> TestRun {
+        let start = Instant::now();
+        let mut result = TestRun::default();
+        for binary in &self.binaries {
+            for name in binary.tests.iter().filter(|t| t.contains(filter)) {
+                let left = limit.saturating_sub(start.elapsed());
+                if left.is_zero() {
+                    result.error =
+                        Some(format!("the tests took longer than {:.0} s in all", limit.as_secs_f64()));
+                    return result;
+                }
+                let mut command = Command::new(&binary.executable);
+                command.current_dir(root).env(CHILD_ENV, "1").envs(env.iter().map(|(k, v)| (k, v)));
+                command.args(["--exact", name, "--test-threads", "1"]);
+                let this_limit = left.min(TEST_TIME_LIMIT);
+                match run_limited(command, this_limit, Limits::GRADED) {
+                    Ok(run) if run.success() => result.passed += 1,
+                    Ok(run) => {
+                        result.failed += 1;
+                        result.failures.push(name.clone());
+                        if result.first_failure.is_none() {
+                            result.first_failure = Some((name.clone(), failure_message(&run, this_limit)));
+                        }
+                    }
+                    Err(e) => {
+                        result.error = Some(format!("cannot run {}: {e}", binary.executable.display()));
+                        return result;
+                    }
+                }
+            }
         }
+        result
     }
-    result
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn grader_counts_libtest_summaries_and_failures() {
-        let out = "running 3 tests\ntest a::b ... ok\ntest a::c ... FAILED\n\
-                   test result: FAILED. 2 passed; 1 failed; 0 ignored; 0 measured; 5 filtered out; finished in 0.01s\n\
-                   test result: ok. 4 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out; finished in 0.00s\n";
-        let run = parse_test_output(out);
-        assert_eq!((run.passed, run.failed), (6, 1));
-        assert_eq!(run.failures, vec!["a::c".to_string()]);
-        assert!((run.fraction() - 6.0 / 7.0).abs() < 1e-12);
-    }
+/// What a failed test said: the panic message libtest printed, or why the process ended.
+fn failure_message(run: &crate::child::ChildRun, limit: Duration) -> String {
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    let message = lines
+        .iter()
+        .position(|l| l.contains("panicked at"))
+        .and_then(|i| lines.get(i + 1))
+        .map(|l| l.trim().to_string());
+    message.unwrap_or_else(|| run.failure_reason(limit))
 }

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use raylab_grade::unit_tests::{build_tests, run_filter};
+use raylab_grade::unit_tests::build_tests;
 use raylab_grade::variants::{make_scratch_tree, Variant};
 
 use crate::repository;
@@ -27,11 +27,11 @@ pub fn stub_matrix() -> Result<(), String> {
             patches: Vec::new(),
         };
         make_scratch_tree(repository(), &tree, &variant)?;
-        build_tests(&tree, Some(&target), Duration::from_secs(900))
+        let binaries = build_tests(&tree, Some(&target), Duration::from_secs(900))
             .map_err(|e| format!("stub {n}: the tests do not build: {e}"))?;
         let mut row = format!("checkpoint {n} stubbed:");
         for m in 1..=n {
-            let run = run_filter(&tree, Some(&target), &format!("checkpoint{m}"), Duration::from_secs(300));
+            let run = binaries.run_filter(&tree, &format!("checkpoint{m}"), &[], Duration::from_secs(300));
             row += &format!("  {m}: {}/{}", run.passed, run.passed + run.failed);
             let ok = if m < n {
                 run.error.is_none() && run.failed == 0 && run.passed > 0

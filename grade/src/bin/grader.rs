@@ -138,12 +138,10 @@ fn run_grade(args: GradeArgs) -> Result<ExitCode, String> {
             .collect()
     });
     let options = GradeOptions {
-        root: args.root.clone(),
-        target: None,
         checkpoints: args.checkpoint.map(|c| vec![c]),
         scenes,
         run_tests: !args.skip_tests,
-        seed: None,
+        ..GradeOptions::new(&args.root)
     };
     let progress = progress_bar(0);
     let graded = grade(&options, &progress);
