@@ -150,6 +150,27 @@ pub struct GradeReport {
     pub tests_ran: bool,
     /// Wall-clock seconds of the whole run.
     pub seconds: f64,
+    /// ...and of its phases.
+    pub phases: Phases,
+}
+
+/// Wall-clock seconds of a grading run's phases.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Phases {
+    /// Compiling the tests and the renderer.
+    pub build: f64,
+    /// Running the unit tests.
+    pub tests: f64,
+    /// Rendering and scoring the scenes.
+    pub renders: f64,
+}
+
+impl std::ops::AddAssign for Phases {
+    fn add_assign(&mut self, other: Phases) {
+        self.build += other.build;
+        self.tests += other.tests;
+        self.renders += other.renders;
+    }
 }
 
 impl GradeReport {
@@ -219,7 +240,9 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     let test_steps = if options.run_tests { tested.len() + 1 } else { 0 };
     progress.set_length((test_steps + 1 + scenes.len()) as u64);
     let target = options.target.as_deref();
-    let tests = options.run_tests.then(|| run_unit_tests(code, target, &options.env, &tested, progress));
+    let mut phases = Phases::default();
+    let tests =
+        options.run_tests.then(|| run_unit_tests(code, target, &options.env, &tested, progress, &mut phases));
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
     let stubbed = match &options.not_started {
         Some(ids) => ids.clone(),
@@ -227,8 +250,11 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
             .map_err(|e| format!("{}/src: {e}", code.display()))?,
     };
     progress.set_message("building the renderer");
+    let built = Instant::now();
     let renderer = build_renderer(code, target).map_err(|e| format!("the renderer does not build: {e}"));
+    phases.build += built.elapsed().as_secs_f64();
     progress.inc(1);
+    let rendering = Instant::now();
     let mut scene_results = Vec::new();
     for scene in scenes {
         progress.set_message(format!("rendering {}", scene.name));
@@ -238,6 +264,7 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         scene_results.push(grade_scene(options, renderer.as_deref(), scene, limit)?);
         progress.inc(1);
     }
+    phases.renders = rendering.elapsed().as_secs_f64();
     let checkpoint_results =
         checkpoints.iter().map(|c| score_checkpoint(c, tests.as_ref(), &stubbed, &scene_results)).collect();
     Ok(GradeReport {
@@ -245,6 +272,7 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         checkpoints: checkpoint_results,
         tests_ran: options.run_tests,
         seconds: start.elapsed().as_secs_f64(),
+        phases,
     })
 }
 
@@ -279,11 +307,15 @@ fn run_unit_tests(
     env: &[(String, String)],
     checkpoints: &[&Checkpoint],
     progress: &ProgressBar,
+    phases: &mut Phases,
 ) -> TestRuns {
     progress.set_message("compiling the tests");
+    let start = Instant::now();
     let built = build_tests(code, target, BUILD_TIME_LIMIT);
+    phases.build += start.elapsed().as_secs_f64();
     progress.inc(1);
-    checkpoints
+    let start = Instant::now();
+    let runs = checkpoints
         .iter()
         .map(|c| {
             progress.set_message(format!("testing checkpoint {}", c.id));
@@ -296,7 +328,9 @@ fn run_unit_tests(
             progress.inc(1);
             (c.id, run)
         })
-        .collect()
+        .collect();
+    phases.tests += start.elapsed().as_secs_f64();
+    runs
 }
 
 /// Renders one scene with the tree's `renderer` in a child process and scores it.

@@ -59,7 +59,7 @@ pub fn is_stub(body: &str, checkpoint: u32) -> bool {
 /// The checkpoints among `ids` whose every solution region in the Rust files below `dir` is still
 /// the starter's stub (a checkpoint with no region at all is not among them).
 pub fn stubbed_checkpoints(dir: &std::path::Path, ids: &[u32]) -> std::io::Result<Vec<u32>> {
-    let texts = rust_files(dir)?;
+    let texts: Vec<String> = rust_files(dir)?.into_iter().map(|(_, text)| text).collect();
     let stubbed = |&id: &u32| {
         let bodies: Vec<&str> =
             texts.iter().flat_map(|t| region_bodies(t, id).into_iter().map(move |r| &t[r])).collect();
@@ -68,18 +68,27 @@ pub fn stubbed_checkpoints(dir: &std::path::Path, ids: &[u32]) -> std::io::Resul
     Ok(ids.iter().copied().filter(stubbed).collect())
 }
 
-/// The text of every Rust file below `dir`.
-pub fn rust_files(dir: &std::path::Path) -> std::io::Result<Vec<String>> {
-    let mut texts = Vec::new();
-    for entry in std::fs::read_dir(dir)? {
-        let path = entry?.path();
+/// Every Rust file below `dir`, with its text, in a stable order.
+pub fn rust_files(dir: &std::path::Path) -> std::io::Result<Vec<(std::path::PathBuf, String)>> {
+    let mut files = Vec::new();
+    let mut entries: Vec<_> = std::fs::read_dir(dir)?.collect::<Result<_, _>>()?;
+    entries.sort_by_key(|e| e.file_name());
+    for entry in entries {
+        let path = entry.path();
         if path.is_dir() {
-            texts.extend(rust_files(&path)?);
+            files.extend(rust_files(&path)?);
         } else if path.extension().is_some_and(|e| e == "rs") {
-            texts.push(std::fs::read_to_string(&path)?);
+            let text = std::fs::read_to_string(&path)?;
+            files.push((path, text));
         }
     }
-    Ok(texts)
+    Ok(files)
+}
+
+/// The name of the function whose body the region starting at byte `start` of `text` is.
+pub fn region_function(text: &str, start: usize) -> String {
+    let begin_line = text[..start.saturating_sub(1)].rfind('\n').map_or(0, |i| i + 1);
+    enclosing_fn(&text[..begin_line]).0
 }
 
 /// For the last `fn` in `before`: its name, its parameters as borrows to silence (`&x`, `&mut y`

@@ -177,6 +177,15 @@ pub fn copy_tree(from: &Path, to: &Path, skip: &[&str]) -> std::io::Result<()> {
     copy_below(from, to, Path::new(""), skip)
 }
 
+/// Writes `bytes` to `path` unless it already holds them, so that cargo, which compares
+/// modification times, rebuilds only what changed.
+pub fn write_if_changed(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    if std::fs::read(path).is_ok_and(|old| old == bytes) {
+        return Ok(());
+    }
+    std::fs::write(path, bytes)
+}
+
 fn copy_below(from: &Path, to: &Path, relative: &Path, skip: &[&str]) -> std::io::Result<()> {
     std::fs::create_dir_all(to.join(relative))?;
     for entry in std::fs::read_dir(from.join(relative))? {
@@ -188,7 +197,7 @@ fn copy_below(from: &Path, to: &Path, relative: &Path, skip: &[&str]) -> std::io
         if entry.file_type()?.is_dir() {
             copy_below(from, to, &path, skip)?;
         } else {
-            std::fs::copy(entry.path(), to.join(&path))?;
+            write_if_changed(&to.join(&path), &std::fs::read(entry.path())?)?;
         }
     }
     Ok(())

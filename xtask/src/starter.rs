@@ -144,7 +144,8 @@ fn surviving_solution_lines(solution: &Path, starter: &Path) -> Result<Vec<Strin
 }
 
 fn rust_texts(dir: &Path) -> Result<Vec<String>, String> {
-    rust_files(dir).map_err(|e| format!("{}: {e}", dir.display()))
+    let files = rust_files(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    Ok(files.into_iter().map(|(_, text)| text).collect())
 }
 
 #[cfg(test)]

@@ -75,6 +75,21 @@ enum Commands {
         #[arg(long, value_name = "FILE")]
         heatmap: Option<PathBuf>,
     },
+    /// Grade a submission from the instructor's tree: only its solution regions are taken, each
+    /// checkpoint judged on its own.
+    Submission {
+        /// The submission (a student's tree).
+        dir: PathBuf,
+        /// The instructor's repository: tests, rubric, scenes, references.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+        /// Where to build (reused between submissions; default: target/grader-submission in root).
+        #[arg(long, value_name = "DIR")]
+        work: Option<PathBuf>,
+        /// Write Gradescope's results.json here.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
     /// Re-render every reference image, mask and the manifest (run on the reference solution).
     UpdateReferences {
         /// The repository.
@@ -110,6 +125,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Commands::Compare { a, b, json, heatmap }) => compare(&a, &b, json, heatmap.as_deref()),
+        Some(Commands::Submission { dir, root, work, json }) => {
+            submission(&root, &dir, work, json.as_deref())
+        }
         Some(Commands::UpdateReferences { root }) => update(&root),
         Some(Commands::Calibrate { root, table, check }) => calibrate(&root, &table, check),
         Some(Commands::MakeVariant { name, out, root }) => make_variant(&root, &name, &out),
@@ -164,6 +182,28 @@ fn run_grade(args: GradeArgs) -> Result<ExitCode, String> {
         eprintln!("grader: report in {}", path.display());
     }
     Ok(if report.all_passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+fn submission(
+    root: &Path,
+    dir: &Path,
+    work: Option<PathBuf>,
+    json: Option<&Path>,
+) -> Result<ExitCode, String> {
+    let work = work.unwrap_or_else(|| root.join("target/grader-submission"));
+    let progress = progress_bar(0);
+    let graded = raylab_grade::submission::grade_submission(root, dir, &work, &progress);
+    progress.finish_and_clear();
+    let graded = graded?;
+    let text = raylab_grade::submission::text(&graded);
+    print!("{text}");
+    if let Some(path) = json {
+        let mut results = report::gradescope_json(&graded.isolated);
+        results["output"] = serde_json::Value::String(text);
+        let results = serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?;
+        write_file_atomic(path, results.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(if graded.isolated.all_passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
 fn compare(a: &Path, b: &Path, json: bool, heatmap_path: Option<&Path>) -> Result<ExitCode, String> {

@@ -1,0 +1,317 @@
+//! A submission graded from the instructor's tree: only the text of its solution regions is
+//! taken, spliced into a scratch copy of the instructor's pristine tree, and graded there with the
+//! instructor's tests, rubric, scenes and references.
+//!
+//! **Matching.** Each region of the instructor's tree is found in the submission by its file, its
+//! checkpoint and the function whose body it is. A region whose markers were moved, renamed or
+//! deleted, or whose file is gone, is "not found" and counts as not done; a region still the
+//! starter's stub is "not started"; a region that fails the allow list ([`crate::allow`]) is
+//! "rejected" with its file and line. In all three cases the starter's stub stands in its place.
+//! Everything else in the submission (tests, rubric, references, manifests, build scripts, new
+//! files, other functions) is ignored and listed.
+//!
+//! **Both versions in one build.** Every region of the scratch tree holds the submission's body
+//! and the solution's, chosen at run time per checkpoint:
+//! `if crate::graded::student(N) { submission } else { solution }`, where `student` reads the
+//! environment variable [`STUDENT_ENV`] (`"2,3"`) once. One build then grades each checkpoint on
+//! its own (its own regions from the submission, the solution everywhere else) and the whole
+//! submission (every region from it). Region code cannot reach the solution's body: it sits
+//! inline in the same function, and the allow list rejects every path through `graded`.
+
+use std::path::{Path, PathBuf};
+
+use crate::allow::check_region;
+use crate::stub::{is_stub, region_bodies, region_function, rust_files, stub_regions};
+use crate::variants::{copy_tree, write_if_changed};
+
+/// The renderer's crate root, which the scratch tree extends with the `graded` module.
+const LIB: &str = "src/lib.rs";
+
+/// The environment variable naming the checkpoints whose regions run the submission's code.
+pub const STUDENT_ENV: &str = "RAYLAB_GRADED_STUDENT";
+
+/// Checkpoints that can have solution regions.
+const REGION_CHECKPOINTS: std::ops::RangeInclusive<u32> = 1..=9;
+
+/// One solution region of the instructor's tree.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Region {
+    /// The file, relative to the tree.
+    pub file: PathBuf,
+    /// Its checkpoint.
+    pub checkpoint: u32,
+    /// The function whose body it is.
+    pub function: String,
+}
+
+/// What the submission has for a region.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Taken {
+    /// Its own code, which passed the allow list.
+    Code(String),
+    /// Still the starter's stub.
+    NotStarted,
+    /// No region for this function in this file: why.
+    NotFound(String),
+    /// Code that failed the allow list: `file:line: reason`.
+    Rejected(String),
+}
+
+/// The regions taken from a submission, and what was ignored.
+#[derive(Clone, Debug)]
+pub struct Submission {
+    /// Every region of the instructor's tree, with what the submission has for it.
+    pub regions: Vec<(Region, Taken)>,
+    /// Files of the submission that differ from the starter outside the regions: ignored.
+    pub ignored: Vec<String>,
+}
+
+impl Submission {
+    /// Checkpoints with regions none of which holds code of the submission's own.
+    pub fn not_started(&self) -> Vec<u32> {
+        let mut ids: Vec<u32> = self.regions.iter().map(|(r, _)| r.checkpoint).collect();
+        ids.dedup();
+        ids.retain(|&id| {
+            self.regions.iter().all(|(r, t)| r.checkpoint != id || !matches!(t, Taken::Code(_)))
+        });
+        ids
+    }
+
+    /// Checkpoints with a rejected region: they score 0.
+    pub fn rejected(&self) -> Vec<u32> {
+        let mut ids: Vec<u32> = self
+            .regions
+            .iter()
+            .filter(|(_, t)| matches!(t, Taken::Rejected(_)))
+            .map(|(r, _)| r.checkpoint)
+            .collect();
+        ids.dedup();
+        ids
+    }
+
+    /// One line per region that is not the submission's own code, for the report.
+    pub fn notes(&self) -> Vec<String> {
+        self.regions
+            .iter()
+            .filter_map(|(r, t)| {
+                let what = format!("{} `{}` (checkpoint {})", r.file.display(), r.function, r.checkpoint);
+                match t {
+                    Taken::Code(_) | Taken::NotStarted => None,
+                    Taken::NotFound(why) => Some(format!("{what}: not found, counts as not done: {why}")),
+                    Taken::Rejected(why) => {
+                        Some(format!("{what}: rejected, checkpoint {} scores 0: {why}", r.checkpoint))
+                    }
+                }
+            })
+            .collect()
+    }
+}
+
+/// The regions of every Rust file below `tree/src`: file (relative), checkpoint, function, body.
+fn regions_of(tree: &Path) -> Result<Vec<(Region, String)>, String> {
+    let src = tree.join("src");
+    let files = rust_files(&src).map_err(|e| format!("{}: {e}", src.display()))?;
+    let mut regions = Vec::new();
+    for (path, text) in files {
+        let file = path.strip_prefix(tree).unwrap_or(&path).to_path_buf();
+        for checkpoint in REGION_CHECKPOINTS {
+            for range in region_bodies(&text, checkpoint) {
+                let function = region_function(&text, range.start);
+                let region = Region { file: file.clone(), checkpoint, function };
+                regions.push((region, text[range].to_string()));
+            }
+        }
+    }
+    Ok(regions)
+}
+
+/// Reads what the submission at `submission` has for every region of the instructor's tree.
+pub fn read_submission(instructor: &Path, submission: &Path) -> Result<Submission, String> {
+    let wanted = regions_of(instructor)?;
+    let found = if submission.join("src").is_dir() { regions_of(submission)? } else { Vec::new() };
+    let regions = wanted
+        .iter()
+        .map(|(region, _)| {
+            let taken = match found.iter().find(|(r, _)| r == region) {
+                None if !submission.join(&region.file).is_file() => {
+                    Taken::NotFound(format!("{} is missing", region.file.display()))
+                }
+                None => Taken::NotFound(format!(
+                    "no `// BEGIN SOLUTION checkpoint{}` region in `{}`: were its markers moved, renamed or deleted?",
+                    region.checkpoint, region.function
+                )),
+                Some((_, body)) if is_stub(body, region.checkpoint) => Taken::NotStarted,
+                Some((_, body)) => match check_region(body) {
+                    Ok(()) => Taken::Code(body.clone()),
+                    Err(rejection) => {
+                        let line = begin_line(&submission.join(&region.file), region).unwrap_or(0) + rejection.line;
+                        Taken::Rejected(format!("{}:{line}: {}", region.file.display(), rejection.reason))
+                    }
+                },
+            };
+            (region.clone(), taken)
+        })
+        .collect();
+    Ok(Submission { regions, ignored: ignored_files(instructor, submission)? })
+}
+
+/// The line number of the region's `BEGIN SOLUTION` marker in `file`.
+fn begin_line(file: &Path, region: &Region) -> Option<usize> {
+    let text = std::fs::read_to_string(file).ok()?;
+    let range = region_bodies(&text, region.checkpoint)
+        .into_iter()
+        .find(|r| region_function(&text, r.start) == region.function)?;
+    Some(text[..range.start].lines().count())
+}
+
+/// Files of the submission that differ from the instructor's outside the regions (compared with
+/// every region body blanked), or that the instructor's tree does not have. Build output, version
+/// control and the starter's own rewrites (README, manifests) are not listed.
+fn ignored_files(instructor: &Path, submission: &Path) -> Result<Vec<String>, String> {
+    let mut ignored = Vec::new();
+    let mut stack = vec![PathBuf::new()];
+    while let Some(relative) = stack.pop() {
+        let dir = submission.join(&relative);
+        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for entry in entries {
+            let entry = entry.map_err(|e| e.to_string())?;
+            let path = relative.join(entry.file_name());
+            let name = path.to_string_lossy().into_owned();
+            if [".git", "target", "README.md", "Cargo.toml", "Cargo.lock", ".cargo"].contains(&name.as_str())
+            {
+                continue;
+            }
+            if entry.file_type().map_err(|e| e.to_string())?.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            let ours = std::fs::read(instructor.join(&path));
+            let theirs =
+                std::fs::read(entry.path()).map_err(|e| format!("{}: {e}", entry.path().display()))?;
+            match ours {
+                Err(_) => ignored.push(format!("{name}: a new file: ignored")),
+                Ok(ours) if blank_regions(&ours) != blank_regions(&theirs) => {
+                    ignored.push(format!("{name}: changed outside your regions: ignored"))
+                }
+                Ok(_) => {}
+            }
+        }
+    }
+    ignored.sort();
+    Ok(ignored)
+}
+
+/// A file's bytes with every region body emptied (Rust files only).
+fn blank_regions(bytes: &[u8]) -> Vec<u8> {
+    let Ok(text) = std::str::from_utf8(bytes) else { return bytes.to_vec() };
+    let mut out = text.to_string();
+    for checkpoint in REGION_CHECKPOINTS {
+        for range in region_bodies(text, checkpoint).into_iter().rev() {
+            out.replace_range(range, "");
+        }
+    }
+    out.into_bytes()
+}
+
+/// Writes the scratch tree: the instructor's tree without its references (graded code never
+/// runs beside them) and build output, every region holding the submission's body (or the stub)
+/// and the solution's, and the `graded` switch between them. Files that already hold the right
+/// text are left alone, so the next submission rebuilds only what differs.
+pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Path) -> Result<(), String> {
+    let mut files: Vec<&PathBuf> = submission.regions.iter().map(|(r, _)| &r.file).collect();
+    files.dedup();
+    // Written below: copying them first would touch them and make cargo rebuild every time.
+    let written: Vec<String> =
+        files.iter().map(|f| f.to_string_lossy().into_owned()).chain([LIB.to_string()]).collect();
+    let skip: Vec<&str> = [".git", "target", "out", "reference"]
+        .into_iter()
+        .chain(written.iter().map(String::as_str))
+        .collect();
+    copy_tree(instructor, dest, &skip)
+        .map_err(|e| format!("copying {} to {}: {e}", instructor.display(), dest.display()))?;
+    for file in files {
+        let path = dest.join(file);
+        let text =
+            std::fs::read_to_string(instructor.join(file)).map_err(|e| format!("{}: {e}", file.display()))?;
+        let mut out = text.clone();
+        for checkpoint in REGION_CHECKPOINTS {
+            let stubbed = stub_regions(&text, checkpoint);
+            let stubs = region_bodies(&stubbed, checkpoint);
+            let solutions = region_bodies(&text, checkpoint);
+            // From the end, so earlier ranges stay valid.
+            for (range, stub) in solutions.iter().zip(&stubs).rev() {
+                let function = region_function(&text, range.start);
+                let taken = submission
+                    .regions
+                    .iter()
+                    .find(|(r, _)| r.file == *file && r.checkpoint == checkpoint && r.function == function);
+                let student = match taken {
+                    Some((_, Taken::Code(body))) => body.as_str(),
+                    _ => &stubbed[stub.clone()],
+                };
+                out.replace_range(range.clone(), &both(checkpoint, student, &text[range.clone()]));
+            }
+        }
+        write_if_changed(&path, out.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let text = std::fs::read_to_string(instructor.join(LIB)).map_err(|e| format!("{LIB}: {e}"))?;
+    let text = format!("{text}\n#[doc(hidden)]\npub mod graded;\n");
+    write_if_changed(&dest.join(LIB), text.as_bytes()).map_err(|e| format!("{LIB}: {e}"))?;
+    write_if_changed(&dest.join("src/graded.rs"), GRADED_MODULE.as_bytes())
+        .map_err(|e| format!("src/graded.rs: {e}"))
+}
+
+/// A region body holding both versions.
+fn both(checkpoint: u32, student: &str, solution: &str) -> String {
+    format!("if crate::graded::student({checkpoint}) {{\n{student}}} else {{\n{solution}}}\n")
+}
+
+/// The switch between the submission's code and the solution's, in the scratch tree only.
+const GRADED_MODULE: &str = r#"//! Written by the grader into its scratch copy of the tree: which checkpoints run the
+//! submission's region code (the environment variable RAYLAB_GRADED_STUDENT, "2,3"); the others
+//! run the solution's.
+
+use std::sync::OnceLock;
+
+/// Whether checkpoint `n`'s regions run the submission's code.
+pub fn student(n: u32) -> bool {
+    static CHOSEN: OnceLock<u64> = OnceLock::new();
+    let chosen = CHOSEN.get_or_init(|| {
+        let list = std::env::var("RAYLAB_GRADED_STUDENT").unwrap_or_default();
+        list.split(',').filter_map(|s| s.trim().parse::<u32>().ok()).filter(|&c| c < 64).fold(0, |m, c| m | 1 << c)
+    });
+    n < 64 && chosen & (1 << n) != 0
+}
+"#;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn repository() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+    }
+
+    #[test]
+    fn grader_finds_every_region_of_the_solution_in_the_solution() {
+        let root = repository();
+        let submission = read_submission(&root, &root).unwrap();
+        assert!(submission.regions.len() >= 11, "{:?}", submission.regions);
+        assert!(
+            submission.regions.iter().all(|(_, t)| matches!(t, Taken::Code(_))),
+            "{:?}",
+            submission.notes()
+        );
+        assert!(submission.not_started().is_empty() && submission.rejected().is_empty());
+    }
+
+    #[test]
+    fn grader_blanks_only_region_bodies_when_comparing() {
+        let text =
+            concat!("fn a() {\n    // BEGIN", " SOLUTION checkpoint2\n    1\n    // END SOLUTION\n}\n");
+        let other = text.replace("    1\n", "    2\n    3\n");
+        assert_eq!(blank_regions(text.as_bytes()), blank_regions(other.as_bytes()));
+        let outside = text.replace("fn a()", "fn b()");
+        assert_ne!(blank_regions(text.as_bytes()), blank_regions(outside.as_bytes()));
+    }
+}

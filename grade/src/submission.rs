@@ -1,0 +1,149 @@
+//! `grader submission DIR`: a submission graded from the instructor's tree, each checkpoint
+//! judged on its own.
+//!
+//! The submission's regions are spliced into a scratch copy of the instructor's tree
+//! ([`crate::splice`]), built once, and graded twice over: checkpoint N *on its own* (its regions
+//! from the submission, the solution's everywhere else: the grade), and the *whole renderer*
+//! (every region from the submission: shown beside it). A bug in checkpoint 2 then costs
+//! checkpoint 2's points only; where the two differ, the whole renderer's reason names the
+//! checkpoint to blame.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use indicatif::ProgressBar;
+
+use crate::grading::{grade, CheckpointResult, GradeOptions, GradeReport, Phases};
+use crate::rubric::Rubric;
+use crate::splice::{read_submission, write_spliced_tree, Submission, STUDENT_ENV};
+
+/// A graded submission.
+#[derive(Clone, Debug)]
+pub struct SubmissionReport {
+    /// Each checkpoint judged on its own: the grade. Its scenes are the whole renderer's.
+    pub isolated: GradeReport,
+    /// The whole submission's renderer.
+    pub cumulative: GradeReport,
+    /// What was taken from the submission and what was ignored.
+    pub submission: Submission,
+    /// Seconds spent reading the submission and writing the spliced tree.
+    pub splice_seconds: f64,
+    /// Seconds of every grading run's phases, summed.
+    pub phases: Phases,
+}
+
+/// Grades the submission at `dir` with the instructor's tree at `instructor`, building in `work`
+/// (its `target/` is reused from one submission to the next). `Err` only for bad input.
+pub fn grade_submission(
+    instructor: &Path,
+    dir: &Path,
+    work: &Path,
+    progress: &ProgressBar,
+) -> Result<SubmissionReport, String> {
+    if !dir.is_dir() {
+        return Err(format!("{}: not a folder", dir.display()));
+    }
+    let start = std::time::Instant::now();
+    let submission = read_submission(instructor, dir)?;
+    let tree = work.join("tree");
+    write_spliced_tree(instructor, &submission, &tree)?;
+    let splice_seconds = start.elapsed().as_secs_f64();
+    let rubric = Rubric::load(&instructor.join("checkpoints/rubric.toml"), instructor)?;
+    let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
+    let base = GradeOptions {
+        code: Some(tree),
+        target: Some(work.join("target")),
+        not_started: Some(submission.not_started()),
+        ..GradeOptions::new(instructor)
+    };
+    let with = |students: &[u32], checkpoints: Option<Vec<u32>>| GradeOptions {
+        env: vec![(
+            STUDENT_ENV.to_string(),
+            students.iter().map(u32::to_string).collect::<Vec<_>>().join(","),
+        )],
+        checkpoints,
+        ..base.clone()
+    };
+    progress.set_message("the whole renderer");
+    let cumulative = grade(&with(&ids, None), progress)?;
+    let mut phases = cumulative.phases;
+    let mut checkpoints = Vec::new();
+    for &id in &ids {
+        progress.set_message(format!("checkpoint {id} on its own"));
+        let report = grade(&with(&[id], Some(vec![id])), progress)?;
+        phases += report.phases;
+        let mut result = report.checkpoints.into_iter().next().ok_or("the rubric lost a checkpoint")?;
+        if submission.rejected().contains(&id) {
+            result.test_score = 0.0;
+            result.image_score = 0.0;
+            result
+                .reasons
+                .insert(0, "a region was rejected (see below): the checkpoint scores 0".to_string());
+        }
+        checkpoints.push(result);
+    }
+    let isolated = GradeReport {
+        scenes: cumulative.scenes.clone(),
+        checkpoints,
+        tests_ran: true,
+        seconds: start.elapsed().as_secs_f64(),
+        phases,
+    };
+    Ok(SubmissionReport { isolated, cumulative, submission, splice_seconds, phases })
+}
+
+/// The report a person reads: per checkpoint the grade and the whole renderer's points, why
+/// points were lost, the regions not taken, the files ignored.
+pub fn text(report: &SubmissionReport) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Each checkpoint is judged on its own: its regions from your code, the reference solution everywhere else.\n"
+    );
+    let _ = writeln!(out, "{:<3} {:<44} {:>10} {:>15}", "#", "checkpoint", "points", "whole renderer");
+    for (own, whole) in report.isolated.checkpoints.iter().zip(&report.cumulative.checkpoints) {
+        let points = |c: &CheckpointResult| format!("{:.1}/{:.0}", c.score(), c.max_score(true));
+        let _ = writeln!(
+            out,
+            "{:<3} {:<44} {:>10} {:>15}",
+            own.checkpoint.id,
+            own.checkpoint.title,
+            points(own),
+            points(whole)
+        );
+        for reason in &own.reasons {
+            let _ = writeln!(out, "      - {reason}");
+        }
+        if let Some(advice) = &own.advice {
+            let _ = writeln!(out, "      hint: {advice}");
+        }
+        if (own.score() - whole.score()).abs() > 1e-9 {
+            for reason in whole.reasons.iter().filter(|r| !own.reasons.contains(r)) {
+                let _ = writeln!(out, "      whole renderer: {reason}");
+            }
+        }
+    }
+    let _ = writeln!(
+        out,
+        "\ntotal: {:.1} / {:.0} points (whole renderer: {:.1}) in {:.1} s (splice {:.1}, build {:.1}, tests {:.1}, renders {:.1})",
+        report.isolated.score(),
+        report.isolated.max_score(),
+        report.cumulative.score(),
+        report.isolated.seconds,
+        report.splice_seconds,
+        report.phases.build,
+        report.phases.tests,
+        report.phases.renders
+    );
+    for (title, lines) in
+        [("Regions not taken", report.submission.notes()), ("Ignored", report.submission.ignored.clone())]
+    {
+        if !lines.is_empty() {
+            let _ = writeln!(out, "\n{title}:");
+            for line in lines {
+                let _ = writeln!(out, "  - {line}");
+            }
+        }
+    }
+    out
+}
