@@ -70,10 +70,9 @@ impl Submission {
     /// Checkpoints with regions none of which holds code of the submission's own.
     pub fn not_started(&self) -> Vec<u32> {
         let mut ids: Vec<u32> = self.regions.iter().map(|(r, _)| r.checkpoint).collect();
+        ids.sort();
         ids.dedup();
-        ids.retain(|&id| {
-            self.regions.iter().all(|(r, t)| r.checkpoint != id || !matches!(t, Taken::Code(_)))
-        });
+        ids.retain(|&id| self.regions.iter().all(|(r, t)| r.checkpoint != id || *t == Taken::NotStarted));
         ids
     }
 
@@ -85,6 +84,7 @@ impl Submission {
             .filter(|(_, t)| matches!(t, Taken::Rejected(_)))
             .map(|(r, _)| r.checkpoint)
             .collect();
+        ids.sort();
         ids.dedup();
         ids
     }
@@ -165,8 +165,10 @@ fn begin_line(file: &Path, region: &Region) -> Option<usize> {
 }
 
 /// Files of the submission that differ from the instructor's outside the regions (compared with
-/// every region body blanked), or that the instructor's tree does not have. Build output, version
-/// control and the starter's own rewrites (README, manifests) are not listed.
+/// every region body blanked), that the instructor's tree does not have, or that it has and the
+/// submission deleted (under `src/`, `tests/`, `scenes/`). The manifest is compared up to its
+/// workspace section, which the starter rewrites; build output, version control, the README and
+/// cargo's configuration are not listed.
 fn ignored_files(instructor: &Path, submission: &Path) -> Result<Vec<String>, String> {
     let mut ignored = Vec::new();
     let mut stack = vec![PathBuf::new()];
@@ -177,8 +179,7 @@ fn ignored_files(instructor: &Path, submission: &Path) -> Result<Vec<String>, St
             let entry = entry.map_err(|e| e.to_string())?;
             let path = relative.join(entry.file_name());
             let name = path.to_string_lossy().into_owned();
-            if [".git", "target", "README.md", "Cargo.toml", "Cargo.lock", ".cargo"].contains(&name.as_str())
-            {
+            if [".git", "target", "README.md", "Cargo.lock", ".cargo"].contains(&name.as_str()) {
                 continue;
             }
             if entry.file_type().map_err(|e| e.to_string())?.is_dir() {
@@ -188,17 +189,52 @@ fn ignored_files(instructor: &Path, submission: &Path) -> Result<Vec<String>, St
             let ours = std::fs::read(instructor.join(&path));
             let theirs =
                 std::fs::read(entry.path()).map_err(|e| format!("{}: {e}", entry.path().display()))?;
+            let same = |ours: &[u8]| match name.as_str() {
+                "Cargo.toml" => package_part(ours) == package_part(&theirs),
+                _ => blank_regions(ours) == blank_regions(&theirs),
+            };
             match ours {
                 Err(_) => ignored.push(format!("{name}: a new file: ignored")),
-                Ok(ours) if blank_regions(&ours) != blank_regions(&theirs) => {
+                Ok(ours) if !same(&ours) => {
                     ignored.push(format!("{name}: changed outside your regions: ignored"))
                 }
                 Ok(_) => {}
             }
         }
     }
+    for folder in ["src", "tests", "scenes"] {
+        let files = tree_files(&instructor.join(folder)).map_err(|e| format!("{folder}: {e}"))?;
+        for file in files {
+            let relative = file.strip_prefix(instructor).unwrap_or(&file);
+            if !submission.join(relative).exists() {
+                ignored.push(format!("{}: deleted: ignored (the instructor's is used)", relative.display()));
+            }
+        }
+    }
     ignored.sort();
     Ok(ignored)
+}
+
+/// Every file below `dir`.
+fn tree_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.is_dir() {
+            files.extend(tree_files(&path)?);
+        } else {
+            files.push(path);
+        }
+    }
+    Ok(files)
+}
+
+/// A manifest up to its workspace section (and the comments just before it).
+fn package_part(bytes: &[u8]) -> String {
+    let text = String::from_utf8_lossy(bytes);
+    let lines: Vec<&str> = text.lines().take_while(|l| !l.starts_with("[workspace")).collect();
+    let end = lines.iter().rposition(|l| !l.trim().is_empty() && !l.starts_with('#')).map_or(0, |i| i + 1);
+    lines[..end].join("\n")
 }
 
 /// A file's bytes with every region body emptied (Rust files only).

@@ -9,7 +9,7 @@
 //! checkpoint to blame.
 
 use std::fmt::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
 
@@ -52,7 +52,8 @@ pub fn grade_submission(
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
     let base = GradeOptions {
         code: Some(tree),
-        target: Some(work.join("target")),
+        // CARGO_TARGET_DIR, when set, shares compiled dependencies with other builds.
+        target: Some(std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| work.join("target"), PathBuf::from)),
         not_started: Some(submission.not_started()),
         ..GradeOptions::new(instructor)
     };
