@@ -58,7 +58,15 @@ pub fn starter(out: &Path) -> Result<(), String> {
     edit(".cargo/config.toml", &|text| {
         Ok(text.lines().filter(|l| !l.starts_with("xtask")).map(|l| format!("{l}\n")).collect())
     })?;
-    edit("README.md", &student_readme)?;
+    edit("README.md", &student_text)?;
+    edit("docs/GRADING.md", &student_text)?;
+    // The starter's grader has no instructor commands: the catalogue they need is not there.
+    edit("grade/Cargo.toml", &|text| {
+        let on = "default = [\"instructor\"]";
+        text.contains(on)
+            .then(|| text.replace(on, "default = []"))
+            .ok_or_else(|| format!("grade/Cargo.toml: no `{on}`"))
+    })?;
     stub_tree(&out.join("src"), &CHECKPOINTS).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
     let survivors = surviving_solution_lines(&root.join("src"), &out.join("src"))?;
     if !survivors.is_empty() {
@@ -95,9 +103,9 @@ fn starter_files(root: &Path) -> Result<Vec<PathBuf>, String> {
         .collect())
 }
 
-/// The README as students see it: blocks between `<!-- BEGIN INSTRUCTOR -->` and
+/// A document (README, docs) as students see it: blocks between `<!-- BEGIN INSTRUCTOR -->` and
 /// `<!-- END INSTRUCTOR -->` removed, and the text of `<!-- STUDENT ... -->` comments shown.
-fn student_readme(text: &str) -> Result<String, String> {
+fn student_text(text: &str) -> Result<String, String> {
     const BEGIN: &str = "<!-- BEGIN INSTRUCTOR -->\n";
     const END: &str = "<!-- END INSTRUCTOR -->\n";
     const STUDENT: &str = "<!-- STUDENT\n";
@@ -153,13 +161,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_student_readme_drops_instructor_blocks_and_shows_student_notes() {
+    fn the_student_text_drops_instructor_blocks_and_shows_student_notes() {
         let text =
             "a\n<!-- BEGIN INSTRUCTOR -->\nsecret\n<!-- END INSTRUCTOR -->\n<!-- STUDENT\nhello\n-->\nb\n";
-        assert_eq!(student_readme(text).unwrap(), "a\nhello\nb\n");
-        assert!(student_readme("<!-- BEGIN INSTRUCTOR -->\nopen").is_err());
+        assert_eq!(student_text(text).unwrap(), "a\nhello\nb\n");
+        assert!(student_text("<!-- BEGIN INSTRUCTOR -->\nopen").is_err());
         let readme = std::fs::read_to_string(repository().join("README.md")).unwrap();
-        let student = student_readme(&readme).unwrap();
+        let student = student_text(&readme).unwrap();
         assert!(!student.contains("reference solution") && !student.contains("cargo xtask"), "{student}");
         assert!(student.contains("Your tasks are the `todo!("));
     }

@@ -10,16 +10,16 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+#[cfg(feature = "instructor")]
+mod instructor;
+
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use raylab::image_io::write_file_atomic;
 use raylab_grade::grading::{grade, GradeOptions};
 use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};
-use raylab_grade::reference::update_references;
-use raylab_grade::rubric::Rubric;
 use raylab_grade::ssim::SsimMap;
-use raylab_grade::variants::{make_scratch_tree, VariantFile};
 use raylab_grade::{heatmap::heatmap, html, report};
 
 /// Grade raylab's checkpoints: unit tests and renders scored against reference images.
@@ -90,35 +90,10 @@ enum Commands {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
-    /// Re-render every reference image, mask and the manifest (run on the reference solution).
-    UpdateReferences {
-        /// The repository.
-        #[arg(long, default_value = ".")]
-        root: PathBuf,
-    },
-    /// Grade every variant of checkpoints/variants.toml and write the calibration table.
-    Calibrate {
-        /// The repository.
-        #[arg(long, default_value = ".")]
-        root: PathBuf,
-        /// Where to write the table (Markdown).
-        #[arg(long, default_value = "docs/CALIBRATION.md")]
-        table: PathBuf,
-        /// Exit 1 unless every correct variant passes and every mistake fails its scenes.
-        #[arg(long)]
-        check: bool,
-    },
-    /// Write a copy of the tree with one variant of checkpoints/variants.toml applied.
-    MakeVariant {
-        /// The variant's name.
-        name: String,
-        /// Where to write the copy (replaced if it exists).
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        /// The repository.
-        #[arg(long, default_value = ".")]
-        root: PathBuf,
-    },
+    /// The instructor's commands (left out of the student starter's grader).
+    #[cfg(feature = "instructor")]
+    #[command(flatten)]
+    Instructor(instructor::Command),
 }
 
 fn main() -> ExitCode {
@@ -128,9 +103,8 @@ fn main() -> ExitCode {
         Some(Commands::Submission { dir, root, work, json }) => {
             submission(&root, &dir, work, json.as_deref())
         }
-        Some(Commands::UpdateReferences { root }) => update(&root),
-        Some(Commands::Calibrate { root, table, check }) => calibrate(&root, &table, check),
-        Some(Commands::MakeVariant { name, out, root }) => make_variant(&root, &name, &out),
+        #[cfg(feature = "instructor")]
+        Some(Commands::Instructor(command)) => instructor::run(command),
         None => run_grade(cli.grade),
     };
     match result {
@@ -142,6 +116,7 @@ fn main() -> ExitCode {
     }
 }
 
+/// A progress bar for the grader's long commands.
 fn progress_bar(length: u64) -> ProgressBar {
     let style =
         ProgressStyle::with_template("{spinner} [{bar:30}] {pos}/{len} {msg}").expect("a valid template");
@@ -229,50 +204,5 @@ fn compare(a: &Path, b: &Path, json: bool, heatmap_path: Option<&Path>) -> Resul
         println!("rmse of 8-bit values:                       {rmse:.4}");
         println!("image-compare MSSIMSimple (8x8 tiles; not Wang's SSIM): {simple:.6}");
     }
-    Ok(ExitCode::SUCCESS)
-}
-
-fn update(root: &Path) -> Result<ExitCode, String> {
-    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
-    let progress = progress_bar(rubric.scenes.len() as u64);
-    let manifest = update_references(root, &rubric, &progress);
-    progress.finish_and_clear();
-    for entry in manifest?.references {
-        println!("reference/{}.png: {} spp in {:.2} s", entry.name, entry.spp, entry.render_seconds);
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-fn calibrate(root: &Path, table: &Path, check: bool) -> Result<ExitCode, String> {
-    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
-    let progress = progress_bar(0);
-    let runs = raylab_grade::calibrate::run_all(root, &progress);
-    progress.finish_and_clear();
-    let runs = runs?;
-    let text = raylab_grade::calibrate::markdown(&runs, &rubric);
-    let header =
-        "# Calibration\n\nWritten by `cargo run --release --bin grader -- calibrate`: every variant of \
-        `checkpoints/variants.toml` graded against the references. ✗ marks a failed check.\n\n";
-    if let Some(dir) = table.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    }
-    write_file_atomic(table, format!("{header}{text}").as_bytes())
-        .map_err(|e| format!("{}: {e}", table.display()))?;
-    println!("{text}");
-    let problems = raylab_grade::calibrate::verdicts(&runs);
-    for p in &problems {
-        println!("calibration: {p}");
-    }
-    Ok(if check && !problems.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
-}
-
-fn make_variant(root: &Path, name: &str, out: &Path) -> Result<ExitCode, String> {
-    let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
-    let variant = variants.iter().find(|v| v.name == name).ok_or_else(|| {
-        let names: Vec<&str> = variants.iter().map(|v| v.name.as_str()).collect();
-        format!("{name}: no such variant (known: {})", names.join(", "))
-    })?;
-    make_scratch_tree(root, out, variant)?;
-    println!("{}: {} ({})", out.display(), variant.name, variant.description);
     Ok(ExitCode::SUCCESS)
 }

@@ -1,0 +1,102 @@
+//! The instructor's commands: re-rendering the references, calibrating the thresholds against
+//! the mistake catalogue, writing one variant of it. Built with the `instructor` feature (on by
+//! default here; the student starter's grader leaves it off, since the catalogue is not there).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Subcommand;
+use raylab::image_io::write_file_atomic;
+use raylab_grade::reference::update_references;
+use raylab_grade::rubric::Rubric;
+use raylab_grade::variants::{make_scratch_tree, VariantFile};
+
+use crate::progress_bar;
+
+/// The instructor's subcommands.
+#[derive(Subcommand)]
+pub enum Command {
+    /// Re-render every reference image, mask and the manifest (run on the reference solution).
+    UpdateReferences {
+        /// The repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+    },
+    /// Grade every variant of checkpoints/variants.toml and write the calibration table.
+    Calibrate {
+        /// The repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+        /// Where to write the table (Markdown).
+        #[arg(long, default_value = "docs/CALIBRATION.md")]
+        table: PathBuf,
+        /// Exit 1 unless every correct variant passes and every mistake fails its scenes.
+        #[arg(long)]
+        check: bool,
+    },
+    /// Write a copy of the tree with one variant of checkpoints/variants.toml applied.
+    MakeVariant {
+        /// The variant's name.
+        name: String,
+        /// Where to write the copy (replaced if it exists).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// The repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+    },
+}
+
+/// Runs one of the instructor's commands.
+pub fn run(command: Command) -> Result<ExitCode, String> {
+    match command {
+        Command::UpdateReferences { root } => update(&root),
+        Command::Calibrate { root, table, check } => calibrate(&root, &table, check),
+        Command::MakeVariant { name, out, root } => make_variant(&root, &name, &out),
+    }
+}
+
+fn update(root: &Path) -> Result<ExitCode, String> {
+    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let progress = progress_bar(rubric.scenes.len() as u64);
+    let manifest = update_references(root, &rubric, &progress);
+    progress.finish_and_clear();
+    for entry in manifest?.references {
+        println!("reference/{}.png: {} spp in {:.2} s", entry.name, entry.spp, entry.render_seconds);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn calibrate(root: &Path, table: &Path, check: bool) -> Result<ExitCode, String> {
+    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let progress = progress_bar(0);
+    let runs = raylab_grade::calibrate::run_all(root, &progress);
+    progress.finish_and_clear();
+    let runs = runs?;
+    let text = raylab_grade::calibrate::markdown(&runs, &rubric);
+    let header =
+        "# Calibration\n\nWritten by `cargo run --release --bin grader -- calibrate`: every variant of \
+        `checkpoints/variants.toml` graded against the references. ✗ marks a failed check.\n\n";
+    if let Some(dir) = table.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    write_file_atomic(table, format!("{header}{text}").as_bytes())
+        .map_err(|e| format!("{}: {e}", table.display()))?;
+    println!("{text}");
+    let problems = raylab_grade::calibrate::verdicts(&runs);
+    for p in &problems {
+        println!("calibration: {p}");
+    }
+    Ok(if check && !problems.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+fn make_variant(root: &Path, name: &str, out: &Path) -> Result<ExitCode, String> {
+    let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
+    let variant = variants.iter().find(|v| v.name == name).ok_or_else(|| {
+        let names: Vec<&str> = variants.iter().map(|v| v.name.as_str()).collect();
+        format!("{name}: no such variant (known: {})", names.join(", "))
+    })?;
+    make_scratch_tree(root, out, variant)?;
+    println!("{}: {} ({})", out.display(), variant.name, variant.description);
+    Ok(ExitCode::SUCCESS)
+}
