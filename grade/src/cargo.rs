@@ -22,10 +22,24 @@ pub fn cargo(root: &Path, target: Option<&Path>, args: &[&str]) -> Command {
     command
 }
 
-/// The first compiler error of a failed build, or why the build itself went wrong.
+/// The first compiler error of a failed build with its place (`error[E0425]: cannot find value
+/// `x` in this scope at src/geometry/triangle.rs:101:9`), or why the build itself went wrong.
 pub fn first_error(run: &ChildRun, limit: Duration) -> String {
-    let error = run.stderr.lines().find(|l| l.starts_with("error")).map(str::to_string);
-    error.unwrap_or_else(|| run.failure_reason(limit))
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    let Some(i) = lines.iter().position(|l| l.starts_with("error")) else { return run.failure_reason(limit) };
+    let place = lines[i + 1..].iter().take(3).find_map(|l| l.trim_start().strip_prefix("--> "));
+    match place {
+        Some(place) => format!("{} at {}", lines[i], place.trim()),
+        None => lines[i].to_string(),
+    }
+}
+
+/// The file and line of a [`first_error`] message, if it names one.
+pub fn error_place(message: &str) -> Option<(PathBuf, usize)> {
+    let place = message.rsplit(" at ").next()?;
+    let mut parts = place.split(':');
+    let (file, line) = (parts.next()?, parts.next()?.parse().ok()?);
+    Some((PathBuf::from(file), line))
 }
 
 /// Builds the tree's `render` binary (dev profile, which the checkpoint tests share) and returns
@@ -54,6 +68,25 @@ pub fn executables(messages: &str, tests: bool) -> Vec<PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_first_compiler_error_keeps_its_place() {
+        let stderr = "   Compiling raylab\nerror[E0425]: cannot find value `x` in this scope\n   --> src/geometry/triangle.rs:101:9\n    |\n";
+        let run = ChildRun {
+            status: None,
+            stdout: String::new(),
+            stderr: stderr.to_string(),
+            seconds: 0.0,
+            limits: None,
+        };
+        let message = first_error(&run, Duration::from_secs(1));
+        assert_eq!(
+            message,
+            "error[E0425]: cannot find value `x` in this scope at src/geometry/triangle.rs:101:9"
+        );
+        assert_eq!(error_place(&message), Some((PathBuf::from("src/geometry/triangle.rs"), 101)));
+        assert_eq!(error_place("error: linking failed"), None);
+    }
 
     #[test]
     fn the_executable_is_read_from_cargos_artifact_messages() {

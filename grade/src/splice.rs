@@ -55,6 +55,8 @@ pub enum Taken {
     NotFound(String),
     /// Code that failed the allow list: `file:line: reason`.
     Rejected(String),
+    /// Code that does not compile, replaced by the stub so the rest can be graded: the error.
+    DoesNotCompile(String),
 }
 
 /// The regions taken from a submission, and what was ignored.
@@ -101,9 +103,33 @@ impl Submission {
                     Taken::Rejected(why) => {
                         Some(format!("{what}: rejected, checkpoint {} scores 0: {why}", r.checkpoint))
                     }
+                    Taken::DoesNotCompile(why) => {
+                        Some(format!("{what}: does not compile, graded as not done: {why}"))
+                    }
                 }
             })
             .collect()
+    }
+}
+
+impl Submission {
+    /// The region of the submission's own code whose body in the spliced tree `tree` holds line
+    /// `line` of `file`, if any.
+    pub fn code_region_at(&mut self, tree: &Path, file: &Path, line: usize) -> Option<&mut Taken> {
+        let text = std::fs::read_to_string(tree.join(file)).ok()?;
+        let line_of = |byte: usize| text[..byte].lines().count() + 1;
+        let (checkpoint, start) = REGION_CHECKPOINTS.clone().find_map(|n| {
+            let range = region_bodies(&text, n)
+                .into_iter()
+                .find(|r| (line_of(r.start)..line_of(r.end)).contains(&line))?;
+            Some((n, range.start))
+        })?;
+        let function = region_function(&text, start);
+        let (_, taken) = self
+            .regions
+            .iter_mut()
+            .find(|(r, _)| r.file == file && r.checkpoint == checkpoint && r.function == function)?;
+        matches!(taken, Taken::Code(_)).then_some(taken)
     }
 }
 
@@ -263,6 +289,9 @@ pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Pat
         .into_iter()
         .chain(written.iter().map(String::as_str))
         .collect();
+    if dest.is_dir() {
+        remove_stale(instructor, dest, Path::new("")).map_err(|e| format!("{}: {e}", dest.display()))?;
+    }
     copy_tree(instructor, dest, &skip)
         .map_err(|e| format!("copying {} to {}: {e}", instructor.display(), dest.display()))?;
     for file in files {
@@ -295,6 +324,24 @@ pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Pat
     write_if_changed(&dest.join(LIB), text.as_bytes()).map_err(|e| format!("{LIB}: {e}"))?;
     write_if_changed(&dest.join("src/graded.rs"), GRADED_MODULE.as_bytes())
         .map_err(|e| format!("src/graded.rs: {e}"))
+}
+
+/// Removes the files of an earlier scratch tree that the instructor's tree no longer has (its
+/// build output and the `graded` module aside).
+fn remove_stale(instructor: &Path, dest: &Path, relative: &Path) -> std::io::Result<()> {
+    for entry in std::fs::read_dir(dest.join(relative))? {
+        let entry = entry?;
+        let path = relative.join(entry.file_name());
+        if path == Path::new("target") || path == Path::new("src/graded.rs") {
+            continue;
+        }
+        if entry.file_type()?.is_dir() {
+            remove_stale(instructor, dest, &path)?;
+        } else if !instructor.join(&path).is_file() {
+            std::fs::remove_file(entry.path())?;
+        }
+    }
+    Ok(())
 }
 
 /// A region body holding both versions.

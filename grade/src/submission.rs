@@ -13,9 +13,11 @@ use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
 
+use crate::cargo::{error_place, BUILD_TIME_LIMIT};
 use crate::grading::{grade, CheckpointResult, GradeOptions, GradeReport, Phases};
 use crate::rubric::Rubric;
-use crate::splice::{read_submission, write_spliced_tree, Submission, STUDENT_ENV};
+use crate::splice::{read_submission, write_spliced_tree, Submission, Taken, STUDENT_ENV};
+use crate::unit_tests::build_tests;
 
 /// A graded submission.
 #[derive(Clone, Debug)]
@@ -44,16 +46,27 @@ pub fn grade_submission(
         return Err(format!("{}: not a folder", dir.display()));
     }
     let start = std::time::Instant::now();
-    let submission = read_submission(instructor, dir)?;
+    let mut submission = read_submission(instructor, dir)?;
     let tree = work.join("tree");
+    // CARGO_TARGET_DIR, when set, shares compiled dependencies with other builds.
+    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| work.join("target"), PathBuf::from);
     write_spliced_tree(instructor, &submission, &tree)?;
     let splice_seconds = start.elapsed().as_secs_f64();
+    // A region that does not compile is replaced by its stub, and the tree built again, so that
+    // one stray line costs its own region only.
+    progress.set_message("compiling the submission");
+    let compiling = std::time::Instant::now();
+    while let Err(error) = build_tests(&tree, Some(&target), BUILD_TIME_LIMIT) {
+        let Some((file, line)) = error_place(&error) else { break };
+        let Some(taken) = submission.code_region_at(&tree, &file, line) else { break };
+        *taken = Taken::DoesNotCompile(error);
+        write_spliced_tree(instructor, &submission, &tree)?;
+    }
     let rubric = Rubric::load(&instructor.join("checkpoints/rubric.toml"), instructor)?;
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
     let base = GradeOptions {
         code: Some(tree),
-        // CARGO_TARGET_DIR, when set, shares compiled dependencies with other builds.
-        target: Some(std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| work.join("target"), PathBuf::from)),
+        target: Some(target),
         not_started: Some(submission.not_started()),
         ..GradeOptions::new(instructor)
     };
@@ -65,9 +78,11 @@ pub fn grade_submission(
         checkpoints,
         ..base.clone()
     };
+    let compiling_seconds = compiling.elapsed().as_secs_f64();
     progress.set_message("the whole renderer");
     let cumulative = grade(&with(&ids, None), progress)?;
     let mut phases = cumulative.phases;
+    phases.build += compiling_seconds;
     let mut checkpoints = Vec::new();
     for &id in &ids {
         progress.set_message(format!("checkpoint {id} on its own"));
