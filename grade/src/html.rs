@@ -104,6 +104,6 @@ fn png_data_url(image: &RgbImage) -> Result<String, image::ImageError> {
 }
 
 /// Escapes text for HTML.
-fn escape(s: &str) -> String {
+pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }

@@ -92,6 +92,19 @@ enum Commands {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+    /// Grade many submissions (folders, or folders of folders) with one build folder: a report
+    /// and results.json per student, grades.csv and a class page (index.html).
+    Batch {
+        /// Submissions, or folders holding one submission per subfolder.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// The instructor's repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+        /// Where to write the reports.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+    },
     /// The instructor's commands (left out of the student starter's grader).
     #[cfg(feature = "instructor")]
     #[command(flatten)]
@@ -105,6 +118,7 @@ fn main() -> ExitCode {
         Some(Commands::Submission { dir, root, work, json }) => {
             submission(&root, &dir, work, json.as_deref())
         }
+        Some(Commands::Batch { dirs, root, out }) => batch(&root, &dirs, &out),
         #[cfg(feature = "instructor")]
         Some(Commands::Instructor(command)) => instructor::run(command),
         None => run_grade(cli.grade),
@@ -200,6 +214,24 @@ fn submission(
         write_file_atomic(path, results.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(if graded.isolated.all_passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> {
+    let progress = progress_bar(0);
+    let rows = raylab_grade::batch::grade_all(root, dirs, out, &progress);
+    progress.finish_and_clear();
+    for row in rows? {
+        match row.graded {
+            Ok(g) => println!("{}: {:.1} / {:.0}", row.student, g.isolated.score(), g.isolated.max_score()),
+            Err(e) => println!("{}: not graded: {e}", row.student),
+        }
+    }
+    println!(
+        "grader: grades in {}, the class page {}",
+        out.join("grades.csv").display(),
+        out.join("index.html").display()
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 fn compare(a: &Path, b: &Path, json: bool, heatmap_path: Option<&Path>) -> Result<ExitCode, String> {
