@@ -58,8 +58,9 @@ pub fn starter(out: &Path) -> Result<(), String> {
     edit(".cargo/config.toml", &|text| {
         Ok(text.lines().filter(|l| !l.starts_with("xtask")).map(|l| format!("{l}\n")).collect())
     })?;
-    edit("README.md", &student_text)?;
-    edit("docs/GRADING.md", &student_text)?;
+    for document in documents(out)? {
+        edit(&document, &student_text)?;
+    }
     // The starter's grader has no instructor commands: the catalogue they need is not there.
     edit("grade/Cargo.toml", &|text| {
         let on = "default = [\"instructor\"]";
@@ -73,6 +74,22 @@ pub fn starter(out: &Path) -> Result<(), String> {
         return Err(format!("solution lines survive in the starter: {survivors:?}"));
     }
     Ok(())
+}
+
+/// The documents a student reads, relative to the starter: the README, the handouts, `docs/`.
+fn documents(out: &Path) -> Result<Vec<String>, String> {
+    let mut found = vec!["README.md".to_string()];
+    for folder in ["checkpoints", "docs"] {
+        let entries = std::fs::read_dir(out.join(folder)).map_err(|e| format!("{folder}: {e}"))?;
+        let mut names: Vec<String> = entries
+            .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+            .filter(|n| n.ends_with(".md"))
+            .map(|n| format!("{folder}/{n}"))
+            .collect();
+        names.sort();
+        found.extend(names);
+    }
+    Ok(found)
 }
 
 /// The files the starter takes: those under version control (`git ls-files`, so nothing the
@@ -159,6 +176,70 @@ fn rust_texts(dir: &Path) -> Result<Vec<String>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A path as the documents name one: in backquotes or a Markdown link, starting with a folder
+    /// or file of the repository, without wildcards or placeholders.
+    fn named_paths(text: &str) -> Vec<String> {
+        let roots = [
+            "src/",
+            "tests/",
+            "checkpoints/",
+            "docs/",
+            "grade/",
+            "scenes/",
+            "reference/",
+            "tools/",
+            ".cargo/",
+        ];
+        let files = ["ARCHITECTURE.md", "Cargo.toml", "rust-toolchain.toml", "README.md"];
+        let quoted = text.split('`').skip(1).step_by(2);
+        let linked = text.split("](").skip(1).filter_map(|t| t.split(')').next());
+        quoted
+            .chain(linked)
+            .map(|t| t.trim_end_matches(['.', ',']))
+            .filter(|t| t.chars().all(|c| c.is_ascii_alphanumeric() || "_-./".contains(c)))
+            .filter(|t| roots.iter().any(|r| t.starts_with(r)) || files.contains(t))
+            .map(str::to_string)
+            .collect()
+    }
+
+    /// The starter tells the truth: every path its documents name exists in it, and every
+    /// command they give works there (its cargo aliases exist, no instructor command is named).
+    #[test]
+    fn every_path_and_command_the_starters_documents_name_exists_in_it() {
+        let out = std::env::temp_dir().join(format!("raylab-starter-docs-{}", std::process::id()));
+        starter(&out).unwrap();
+        let aliases = std::fs::read_to_string(out.join(".cargo/config.toml")).unwrap();
+        let mut problems = Vec::new();
+        for document in documents(&out).unwrap() {
+            let text = std::fs::read_to_string(out.join(&document)).unwrap();
+            for path in named_paths(&text) {
+                if !out.join(&path).exists() {
+                    problems.push(format!("{document} names {path}, which the starter does not ship"));
+                }
+            }
+            for command in [
+                "cargo xtask",
+                "cargo bench",
+                "raybench",
+                "grader calibrate",
+                "make-variant",
+                "update-references",
+            ] {
+                if text.contains(command) {
+                    problems
+                        .push(format!("{document} gives `{command}`, which does not work in the starter"));
+                }
+            }
+            if text.contains("cargo grader") && !aliases.contains("grader = ") {
+                problems.push(format!(
+                    "{document} gives `cargo grader`, but .cargo/config.toml has no such alias"
+                ));
+            }
+        }
+        std::fs::remove_dir_all(&out).unwrap();
+        assert!(problems.is_empty(), "{}", problems.join("\n"));
+    }
 
     #[test]
     fn the_student_text_drops_instructor_blocks_and_shows_student_notes() {
