@@ -13,7 +13,7 @@ use crate::{repository, CHECKPOINTS};
 /// Left out of the starter: instructor-only material (this generator, the benchmarks, the
 /// mistake catalogue and what it measured, and the instructor's CI, which runs them). Paths are
 /// relative to the repository; a folder leaves out everything below it.
-const INSTRUCTOR_ONLY: [&str; 9] = [
+const INSTRUCTOR_ONLY: [&str; 10] = [
     "xtask",
     "bench",
     ".ci",
@@ -21,6 +21,7 @@ const INSTRUCTOR_ONLY: [&str; 9] = [
     "docs/CALIBRATION.md",
     "docs/ZOO.md",
     "docs/PERFORMANCE.md",
+    "docs/INSTRUCTORS.md",
     "grade/tests",
     "tools",
 ];
