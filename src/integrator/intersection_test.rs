@@ -154,6 +154,49 @@ mod checkpoint5 {
         assert!((d.hit.p - Vec3::new(expected_x, -1.0, 0.0)).length() < 2.0 * 3e-4 * 2.0, "{}", d.hit.p);
     }
 
+    /// Parallel faces: a ray through a glass slab leaves in the direction it came, shifted
+    /// sideways, and lands on the floor behind it, however the slab is turned and wherever it
+    /// is. Far from the origin and tilted, hit points do not round onto the faces' planes, so a
+    /// ray restarted from the exact hit point meets its own face again.
+    #[test]
+    fn a_tilted_glass_slab_far_from_the_origin_lets_rays_through() {
+        let (centre, degrees) = (Vec3::splat(1000.0), Vec3::new(25.0, 0.0, 15.0));
+        let m = crate::geometry::transform_matrix(centre, degrees, Vec3::ONE);
+        let n = m.transform_vector3(Vec3::Y).normalize();
+        let side = m.transform_vector3(Vec3::X).normalize();
+        let objects = format!(
+            "[materials.floor]\nkind = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\
+             [materials.glass]\nkind = \"glass\"\nior = 1.5\n\
+             [[objects]]\nshape = \"box\"\nmaterial = \"glass\"\ntranslate = [1000, 1000, 1000]\n\
+             rotate = [25, 0, 15]\nscale = [20, 0.5, 20]\n\
+             [[objects]]\nshape = \"quad\"\nmaterial = \"floor\"\ntranslate = [{}, {}, {}]\n\
+             rotate = [25, 0, 15]\nscale = [50, 1, 50]\n",
+            centre.x - 3.0 * n.x,
+            centre.y - 3.0 * n.y,
+            centre.z - 3.0 * n.z
+        );
+        let scene = scene_from_toml(&objects);
+        let world = World::new(&scene, SplitMethod::ObjectMedian);
+        // 30° from the normal; inside the slab (thickness 1) sin θt = sin 30° / 1.5.
+        let (sin_i, sin_t) = (0.5f32, 0.5f32 / 1.5);
+        let (tan_i, tan_t) = (sin_i / (1.0 - sin_i * sin_i).sqrt(), sin_t / (1.0 - sin_t * sin_t).sqrt());
+        let dir = (-n * (1.0 - sin_i * sin_i).sqrt() + side * sin_i).normalize();
+        for i in 0..50 {
+            let start =
+                centre + 2.0 * n + (i as f32 * 0.37 - 9.0) * side + (i as f32 * 0.23 - 5.0) * n.cross(side);
+            let d = trace_to_diffuse(&world, Ray::new(start, dir), 8)
+                .unwrap_or_else(|| panic!("ray {i} is lost"));
+            assert!((d.wo + dir).length() < 1e-4, "ray {i} leaves parallel to how it entered: {}", -d.wo);
+            // It drops 1.5 to the slab, 1 through it, 2.5 to the floor (3 below the centre), going
+            // sideways tan θi per unit of depth, but tan θt in the glass.
+            let want = start - 5.0 * n + (4.0 * tan_i + tan_t) * side;
+            // Each glass surface restarts the ray δ = 1e-4 (1 + max |p|) ≈ 0.1 off the surface
+            // (math::spawn_ray), moving the landing point by δ (1 + tan θ) ≤ 0.16 at most: two
+            // surfaces, 0.32; rounding at 1000 (6e-5 an ulp) is far below that.
+            assert!((d.hit.p - want).length() < 0.35, "ray {i} lands at {}, not {want}", d.hit.p);
+        }
+    }
+
     #[test]
     fn a_slab_of_index_one_changes_nothing() {
         let scene = slab_scene(1.0);
