@@ -21,6 +21,12 @@ pub fn region_bodies(text: &str, checkpoint: u32) -> Vec<std::ops::Range<usize>>
     regions
 }
 
+/// The stub's first line: what the markers around it are for.
+const KEEP_MARKERS: &str =
+    "// Write your code here, between the markers, which must stay: the grader takes only what is between them.";
+/// Before the line that silences the parameters.
+const SILENCE: &str = "// This `let _` only keeps the compiler quiet about unused parameters: delete it.";
+
 /// `text` with the body of every `checkpoint` region replaced by its stub.
 pub fn stub_regions(text: &str, checkpoint: u32) -> String {
     let mut out = text.to_string();
@@ -28,11 +34,14 @@ pub fn stub_regions(text: &str, checkpoint: u32) -> String {
         let line_start = text[..r.start - 1].rfind('\n').map_or(0, |i| i + 1);
         let indent: String = text[line_start..].chars().take_while(|c| c.is_whitespace()).collect();
         let (name, params, summary) = enclosing_fn(&text[..line_start]);
-        let mut body = String::new();
+        let mut body = format!("{indent}{KEEP_MARKERS}\n");
+        let silence = |body: &mut String, what: &str| {
+            *body += &format!("{indent}{SILENCE}\n{indent}let _ = {what};\n");
+        };
         match params.len() {
             0 => {}
-            1 => body += &format!("{indent}let _ = {};\n", params[0]),
-            _ => body += &format!("{indent}let _ = ({});\n", params.join(", ")),
+            1 => silence(&mut body, &params[0]),
+            _ => silence(&mut body, &format!("({})", params.join(", "))),
         }
         let message = if summary.is_empty() {
             format!("checkpoint {checkpoint}: write `{name}`")
@@ -47,11 +56,11 @@ pub fn stub_regions(text: &str, checkpoint: u32) -> String {
     out
 }
 
-/// Whether a region body is still the starter's stub: nothing but `let _ = ...;` lines and the
-/// `todo!("checkpoint N: ...")` that [`stub_regions`] writes.
+/// Whether a region body is still the starter's stub: nothing but comments, `let _ = ...;` lines
+/// and the `todo!("checkpoint N: ...")` that [`stub_regions`] writes.
 pub fn is_stub(body: &str, checkpoint: u32) -> bool {
     let todo = format!("todo!(\"checkpoint {checkpoint}:");
-    let mut lines = body.lines().map(str::trim).filter(|l| !l.is_empty());
+    let mut lines = body.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with("//"));
     lines.clone().any(|l| l.starts_with(&todo))
         && lines.all(|l| l.starts_with("let _ = ") || l.starts_with(&todo))
 }
@@ -171,11 +180,11 @@ mod tests {
     #[test]
     fn grader_stubs_say_what_to_write_and_silence_unused_parameters() {
         let stub = stub_regions(SOLUTION, 7);
-        let expected = concat!(
-            " SOLUTION checkpoint7\n    let _ = (&pixel, &spp, &mut radiance);\n",
+        let expected = format!(
+            " SOLUTION checkpoint7\n    {KEEP_MARKERS}\n    {SILENCE}\n    let _ = (&pixel, &spp, &mut radiance);\n{}",
             "    todo!(\"checkpoint 7: write `estimate`: Estimates the pixel\")\n    // END SOLUTION\n"
         );
-        assert!(stub.contains(expected), "{stub}");
+        assert!(stub.contains(&expected), "{stub}");
         assert!(!stub.contains("radiance(pixel"));
         assert_eq!(stub_regions(SOLUTION, 6), SOLUTION, "other checkpoints untouched");
     }
