@@ -24,3 +24,4 @@ pub mod stub;
 pub mod submission;
 pub mod unit_tests;
 pub mod variants;
+pub mod watch;

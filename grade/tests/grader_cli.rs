@@ -188,3 +188,32 @@ fn grader_report_for_the_solution() {
         .collect();
     insta::assert_snapshot!(stable.join("\n"));
 }
+
+/// `grader watch` on the solution, from its last checkpoint: it passes at once, says so, and
+/// ends (a smoke test of the real loop; the loop's logic is tested with synthetic saves).
+#[test]
+fn grader_watch_moves_past_a_passing_checkpoint_and_ends() {
+    let root = root();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_grader"))
+        .args(["watch", "--from", "7", "--root", root.to_str().unwrap()])
+        .env_remove("RAYLAB_GRADER_CHILD")
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("grader runs");
+    // Generous: the first run may compile the tests and the renderer.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(600);
+    while child.try_wait().unwrap().is_none() {
+        if std::time::Instant::now() > deadline {
+            child.kill().unwrap();
+            panic!("grader watch did not end");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let out = child.wait_with_output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("checkpoint 7 passes: 10.0/10") && text.contains("every checkpoint up to 7 passes"),
+        "{text}"
+    );
+}

@@ -92,6 +92,15 @@ enum Commands {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+    /// Re-run the current checkpoint's tests and scenes on every save, moving on when it passes.
+    Watch {
+        /// The checkpoint to start from.
+        #[arg(long, default_value_t = 1)]
+        from: u32,
+        /// The repository (your tree).
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+    },
     /// Grade many submissions (folders, or folders of folders) with one build folder: a report
     /// and results.json per student, grades.csv and a class page (index.html).
     Batch {
@@ -119,6 +128,7 @@ fn main() -> ExitCode {
             submission(&root, &dir, work, json.as_deref())
         }
         Some(Commands::Batch { dirs, root, out }) => batch(&root, &dirs, &out),
+        Some(Commands::Watch { from, root }) => watch(&root, from),
         #[cfg(feature = "instructor")]
         Some(Commands::Instructor(command)) => instructor::run(command),
         None => run_grade(cli.grade),
@@ -231,6 +241,20 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> 
         out.join("grades.csv").display(),
         out.join("index.html").display()
     );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn watch(root: &Path, from: u32) -> Result<ExitCode, String> {
+    let rubric = raylab_grade::rubric::Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let last = rubric.checkpoints.iter().map(|c| c.id).max().unwrap_or(from);
+    let check = |id: u32| {
+        let options = GradeOptions { checkpoints: Some(vec![id]), ..GradeOptions::new(root) };
+        let report = grade(&options, &ProgressBar::hidden())?;
+        report.checkpoints.into_iter().next().ok_or_else(|| format!("no checkpoint {id} in the rubric"))
+    };
+    let mut changes = raylab_grade::watch::Polling::new(&root.join("src"));
+    raylab_grade::watch::watch(&mut changes, check, from, last, &mut std::io::stdout())
+        .map_err(|e| format!("cannot write: {e}"))?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -1,0 +1,199 @@
+//! `grader watch`: the current checkpoint's tests and scenes again on every save, as rustlings
+//! does, moving on to the next checkpoint when one passes.
+//!
+//! The loop is written against two seams so it can be tested without files or builds: a
+//! [`Changes`] source that blocks until something was saved, and a `check` function that grades
+//! one checkpoint. The grader binary gives it [`Polling`] (modification times of the tree's Rust
+//! sources, scanned every 300 ms: no platform watcher needed) and [`grade`](crate::grading::grade).
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, SystemTime};
+
+use crate::grading::CheckpointResult;
+use crate::report::hint_text;
+
+/// Something that waits for the next save.
+pub trait Changes {
+    /// Blocks until a source file changed; `false` when watching should stop.
+    fn wait(&mut self) -> bool;
+}
+
+/// Watches the modification times of the Rust files below a folder.
+pub struct Polling {
+    dir: PathBuf,
+    seen: BTreeMap<PathBuf, SystemTime>,
+}
+
+impl Polling {
+    /// Watches the Rust files below `dir`, as they are now.
+    pub fn new(dir: &Path) -> Self {
+        let mut polling = Self { dir: dir.to_path_buf(), seen: BTreeMap::new() };
+        polling.seen = polling.scan();
+        polling
+    }
+
+    fn scan(&self) -> BTreeMap<PathBuf, SystemTime> {
+        let mut times = BTreeMap::new();
+        let mut stack = vec![self.dir.clone()];
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+                let path = entry.path();
+                if path.is_dir() {
+                    stack.push(path);
+                } else if path.extension().is_some_and(|e| e == "rs") {
+                    if let Ok(time) = entry.metadata().and_then(|m| m.modified()) {
+                        times.insert(path, time);
+                    }
+                }
+            }
+        }
+        times
+    }
+}
+
+impl Changes for Polling {
+    fn wait(&mut self) -> bool {
+        loop {
+            std::thread::sleep(Duration::from_millis(300));
+            let now = self.scan();
+            if now != self.seen {
+                self.seen = now;
+                return true;
+            }
+        }
+    }
+}
+
+/// Watches from checkpoint `first` to `last`: grades the current one with `check`, prints one
+/// line when it passes and moves on, or prints what to look at first and waits for a save.
+/// Returns when every checkpoint up to `last` passes or `changes` stops.
+pub fn watch(
+    changes: &mut impl Changes,
+    mut check: impl FnMut(u32) -> Result<CheckpointResult, String>,
+    first: u32,
+    last: u32,
+    out: &mut impl Write,
+) -> std::io::Result<()> {
+    let mut current = first;
+    while current <= last {
+        writeln!(out, "checking checkpoint {current}...")?;
+        out.flush()?;
+        match check(current) {
+            Ok(result) if (result.score() - result.max_score(true)).abs() < 1e-9 => {
+                writeln!(
+                    out,
+                    "checkpoint {current} passes: {:.1}/{:.0}",
+                    result.score(),
+                    result.max_score(true)
+                )?;
+                current += 1;
+                continue;
+            }
+            Ok(result) => {
+                writeln!(out, "checkpoint {current}: {:.1}/{:.0}", result.score(), result.max_score(true))?;
+                writeln!(out, "  {}", first_problem(&result))?;
+                writeln!(
+                    out,
+                    "  {}",
+                    result.advice.clone().unwrap_or_else(|| hint_text(&result.checkpoint))
+                )?;
+            }
+            Err(e) => writeln!(out, "checkpoint {current}: cannot grade: {e}")?,
+        }
+        writeln!(out, "waiting for a save...")?;
+        out.flush()?;
+        if !changes.wait() {
+            return Ok(());
+        }
+    }
+    writeln!(out, "every checkpoint up to {last} passes")
+}
+
+/// The first failing test with what it said, else the first reason points were lost.
+fn first_problem(result: &CheckpointResult) -> String {
+    if let Some((test, message)) = result.tests.as_ref().and_then(|t| t.first_failure.as_ref()) {
+        let name = test.rsplit("::").next().unwrap_or(test);
+        return format!("first failing test: {name}: {message}");
+    }
+    result.reasons.first().cloned().unwrap_or_else(|| "points were lost".to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rubric::Rubric;
+    use crate::unit_tests::TestRun;
+
+    /// Saves given by a list: `wait` takes the next, and stops when none is left.
+    struct Saves(usize);
+
+    impl Changes for Saves {
+        fn wait(&mut self) -> bool {
+            self.0 = self.0.saturating_sub(1);
+            self.0 > 0
+        }
+    }
+
+    fn result(id: u32, passed: u32, failed: u32) -> CheckpointResult {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), &root).unwrap();
+        let checkpoint = rubric.checkpoints.iter().find(|c| c.id == id).unwrap().clone();
+        let first_failure =
+            (failed > 0).then(|| ("m::checkpoint2::the_back_face_is_hit_too".into(), "no hit".into()));
+        let fraction = passed as f64 / (passed + failed) as f64;
+        CheckpointResult {
+            tests: Some(TestRun { passed, failed, first_failure, ..TestRun::default() }),
+            test_score: checkpoint.test_points * fraction,
+            image_score: checkpoint.image_points * fraction.floor(),
+            reasons: Vec::new(),
+            advice: None,
+            checkpoint,
+        }
+    }
+
+    #[test]
+    fn grader_watch_waits_on_a_failing_checkpoint_and_moves_on_when_it_passes() {
+        // Checkpoint 2 fails twice (two saves), then passes; checkpoint 3 passes at once.
+        let mut runs = 0;
+        let check = |id: u32| {
+            runs += 1;
+            Ok(if id == 2 && runs <= 2 { result(2, 9, 1) } else { result(id, 10, 0) })
+        };
+        let mut out = Vec::new();
+        watch(&mut Saves(10), check, 2, 3, &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert_eq!(text.matches("waiting for a save").count(), 2, "{text}");
+        assert!(text.contains("first failing test: the_back_face_is_hit_too: no hit"), "{text}");
+        assert!(text.contains("checkpoints/02-triangle.md"), "the handout: {text}");
+        let passes: Vec<&str> = text.lines().filter(|l| l.contains("passes:")).collect();
+        assert_eq!(passes.len(), 2, "{text}");
+        assert!(text.ends_with("every checkpoint up to 3 passes\n"), "{text}");
+    }
+
+    #[test]
+    fn grader_watch_stops_when_the_saves_stop() {
+        let mut out = Vec::new();
+        watch(&mut Saves(1), |_| Ok(result(2, 0, 10)), 2, 7, &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert_eq!(text.matches("checkpoint 2: ").count(), 1, "{text}");
+        assert!(!text.contains("every checkpoint"), "{text}");
+    }
+
+    #[test]
+    fn grader_polling_sees_a_save() {
+        let dir = std::env::temp_dir().join(format!("raylab-watch-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("src")).unwrap();
+        let file = dir.join("src/a.rs");
+        std::fs::write(&file, "fn a() {}").unwrap();
+        let mut polling = Polling::new(&dir);
+        let writer = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(1100));
+            std::fs::write(&file, "fn a() { 1; }").unwrap();
+        });
+        assert!(polling.wait());
+        writer.join().unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
