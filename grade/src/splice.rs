@@ -228,7 +228,7 @@ fn ignored_files(instructor: &Path, submission: &Path) -> Result<Vec<String>, St
             }
         }
     }
-    for folder in ["src", "tests", "scenes"] {
+    for folder in ["src", "tests", "scenes"].into_iter().filter(|f| instructor.join(f).is_dir()) {
         let files = tree_files(&instructor.join(folder)).map_err(|e| format!("{folder}: {e}"))?;
         for file in files {
             let relative = file.strip_prefix(instructor).unwrap_or(&file);
@@ -298,13 +298,13 @@ pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Pat
         let path = dest.join(file);
         let text =
             std::fs::read_to_string(instructor.join(file)).map_err(|e| format!("{}: {e}", file.display()))?;
-        let mut out = text.clone();
+        // Every region's new body, for all checkpoints, applied from the end of the file so that
+        // the ranges of the original text stay valid.
+        let mut bodies: Vec<(std::ops::Range<usize>, String)> = Vec::new();
         for checkpoint in REGION_CHECKPOINTS {
             let stubbed = stub_regions(&text, checkpoint);
             let stubs = region_bodies(&stubbed, checkpoint);
-            let solutions = region_bodies(&text, checkpoint);
-            // From the end, so earlier ranges stay valid.
-            for (range, stub) in solutions.iter().zip(&stubs).rev() {
+            for (range, stub) in region_bodies(&text, checkpoint).into_iter().zip(stubs) {
                 let function = region_function(&text, range.start);
                 let taken = submission
                     .regions
@@ -312,10 +312,15 @@ pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Pat
                     .find(|(r, _)| r.file == *file && r.checkpoint == checkpoint && r.function == function);
                 let student = match taken {
                     Some((_, Taken::Code(body))) => body.as_str(),
-                    _ => &stubbed[stub.clone()],
+                    _ => &stubbed[stub],
                 };
-                out.replace_range(range.clone(), &both(checkpoint, student, &text[range.clone()]));
+                bodies.push((range.clone(), both(checkpoint, student, &text[range])));
             }
+        }
+        bodies.sort_by_key(|(range, _)| std::cmp::Reverse(range.start));
+        let mut out = text.clone();
+        for (range, body) in bodies {
+            out.replace_range(range, &body);
         }
         write_if_changed(&path, out.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
     }
@@ -386,6 +391,36 @@ mod tests {
             submission.notes()
         );
         assert!(submission.not_started().is_empty() && submission.rejected().is_empty());
+    }
+
+    /// A file with regions of two checkpoints: each gets its own two bodies, in place.
+    #[test]
+    fn grader_splices_regions_of_several_checkpoints_in_one_file() {
+        let dir = std::env::temp_dir().join(format!("raylab-splice-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let (ours, theirs, dest) = (dir.join("ours"), dir.join("theirs"), dir.join("dest"));
+        // Markers are assembled so that the starter generator does not stub this fixture itself.
+        let file = |a: &str, b: &str| {
+            format!(
+                "fn a() -> u32 {{\n    // BEGIN{} SOLUTION checkpoint2\n    {a}\n    // END SOLUTION\n}}\n\
+                 fn b() -> u32 {{\n    // BEGIN{} SOLUTION checkpoint3\n    {b}\n    // END SOLUTION\n}}\n",
+                "", ""
+            )
+        };
+        for (tree, text) in [(&ours, file("1 + 1", "2 + 2")), (&theirs, file("10 * 10", "20 * 20"))] {
+            std::fs::create_dir_all(tree.join("src")).unwrap();
+            std::fs::write(tree.join("src/a.rs"), text).unwrap();
+            std::fs::write(tree.join("src/lib.rs"), "mod a;\n").unwrap();
+        }
+        let submission = read_submission(&ours, &theirs).unwrap();
+        write_spliced_tree(&ours, &submission, &dest).unwrap();
+        let spliced = std::fs::read_to_string(dest.join("src/a.rs")).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        for (n, student, solution) in [(2, "10 * 10", "1 + 1"), (3, "20 * 20", "2 + 2")] {
+            let want =
+                format!("if crate::graded::student({n}) {{\n    {student}\n}} else {{\n    {solution}\n}}\n");
+            assert!(spliced.contains(&want), "{spliced}");
+        }
     }
 
     #[test]
