@@ -95,14 +95,6 @@ fn list_tests(root: &Path, executable: &Path) -> Result<Vec<String>, String> {
 }
 
 impl TestBinaries {
-    /// The names of the tests whose name contains `filter` (as `cargo test FILTER` selects).
-    pub fn names(&self, filter: &str) -> Vec<&str> {
-        self.binaries
-            .iter()
-            .flat_map(|b| b.tests.iter().filter(|t| t.contains(filter)).map(String::as_str))
-            .collect()
-    }
-
     /// Runs every test whose name contains `filter`, each alone in its own process (in `root`,
     /// with `env` added), for at most `limit` in all; a test passes if its process exits 0.
     /// After a test that does not finish in time, the remaining ones count as failed without
