@@ -116,9 +116,11 @@ pub struct CheckpointResult {
     pub checkpoint: Checkpoint,
     /// Its unit tests, if they ran.
     pub tests: Option<TestRun>,
-    /// Points from the unit tests.
+    /// Its hidden unit tests, if it has some and they ran.
+    pub hidden_tests: Option<TestRun>,
+    /// Points from the unit tests, hidden ones included.
     pub test_score: f64,
-    /// Points from the scenes.
+    /// Points from the scenes, hidden ones included.
     pub image_score: f64,
     /// Why points were lost, one line each.
     pub reasons: Vec<String>,
@@ -133,9 +135,33 @@ impl CheckpointResult {
         self.test_score + self.image_score
     }
 
-    /// Points available (test points only count when the tests ran).
+    /// Points available, hidden ones included (test points only count when the tests ran).
     pub fn max_score(&self, tests_ran: bool) -> f64 {
-        self.checkpoint.image_points + if tests_ran { self.checkpoint.test_points } else { 0.0 }
+        self.checkpoint.all_image_points() + if tests_ran { self.checkpoint.all_test_points() } else { 0.0 }
+    }
+
+    /// The unit tests passed, as a table cell: `9/10`, with the hidden ones beside:
+    /// `9/10 + hidden 2/3`.
+    pub fn tests_cell(&self) -> String {
+        let cell = |t: &TestRun| match &t.error {
+            None => format!("{}/{}", t.passed, t.passed + t.failed),
+            Some(_) => "error".to_string(),
+        };
+        match (&self.tests, &self.hidden_tests) {
+            (Some(t), Some(h)) => format!("{} + hidden {}", cell(t), cell(h)),
+            (Some(t), None) => cell(t),
+            (None, _) => "-".to_string(),
+        }
+    }
+
+    /// The image points, as a table cell: `7.5/10`, or `-` if there are none.
+    pub fn images_cell(&self) -> String {
+        let max = self.checkpoint.all_image_points();
+        if max > 0.0 {
+            format!("{:.1}/{max:.0}", self.image_score)
+        } else {
+            "-".to_string()
+        }
     }
 }
 
@@ -217,7 +243,7 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     }
     let start = Instant::now();
     let root = &options.root;
-    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let rubric = Rubric::of_tree(root)?;
     let checkpoints: Vec<&Checkpoint> = rubric
         .checkpoints
         .iter()
@@ -230,7 +256,7 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         .iter()
         .filter(|c| checkpoints.contains(c) || scenes.iter().any(|s| s.depends_on.contains(&c.id)))
         .collect();
-    let manifest = Manifest::load(root)?;
+    let manifest = Manifest::load(root, &rubric)?;
     for scene in &scenes {
         manifest.fresh_entry(root, scene)?;
         load_reference(root, scene)?;
@@ -300,7 +326,7 @@ fn selected_scenes(
     Ok(rubric.scenes.iter().filter(wanted).cloned().collect())
 }
 
-/// Builds the tests once, then runs each checkpoint's filter.
+/// Builds the tests once, then runs each checkpoint's filter, and its hidden tests' filter.
 fn run_unit_tests(
     code: &Path,
     target: Option<&Path>,
@@ -315,20 +341,19 @@ fn run_unit_tests(
     phases.build += start.elapsed().as_secs_f64();
     progress.inc(1);
     let start = Instant::now();
-    let runs = checkpoints
-        .iter()
-        .map(|c| {
-            progress.set_message(format!("testing checkpoint {}", c.id));
-            let run = match &built {
-                Ok(binaries) => binaries.run_filter(code, &c.test_filter, env, TEST_TIME_LIMIT),
-                Err(e) => {
-                    TestRun { error: Some(format!("the tests do not compile: {e}")), ..TestRun::default() }
-                }
-            };
-            progress.inc(1);
-            (c.id, run)
-        })
-        .collect();
+    let run = |filter: &str| match &built {
+        Ok(binaries) => binaries.run_filter(code, filter, env, TEST_TIME_LIMIT),
+        Err(e) => TestRun { error: Some(format!("the tests do not compile: {e}")), ..TestRun::default() },
+    };
+    let mut runs = TestRuns::default();
+    for c in checkpoints {
+        progress.set_message(format!("testing checkpoint {}", c.id));
+        runs.public.insert(c.id, run(&c.test_filter));
+        if let Some(filter) = c.hidden.as_ref().and_then(|h| h.test_filter.as_deref()) {
+            runs.hidden.insert(c.id, run(filter));
+        }
+        progress.inc(1);
+    }
     phases.tests += start.elapsed().as_secs_f64();
     runs
 }
@@ -406,17 +431,43 @@ fn score(
 /// A reason names this many failing tests; `cargo test checkpointN` shows them all.
 const SHOWN_FAILURES: usize = 3;
 
-/// Each tested checkpoint's unit-test run, by id.
-type TestRuns = BTreeMap<u32, TestRun>;
+/// Each tested checkpoint's unit-test runs, by id: its public tests, and its hidden ones if it
+/// has any.
+#[derive(Clone, Debug, Default)]
+struct TestRuns {
+    public: BTreeMap<u32, TestRun>,
+    hidden: BTreeMap<u32, TestRun>,
+}
 
-/// The lowest checkpoint the scene runs whose own tests do not all pass (module docs), if the
-/// tests ran.
+/// The lowest checkpoint the scene runs whose own (public) tests do not all pass (module docs),
+/// if the tests ran.
 fn culprit(scene: &GradedScene, tests: Option<&TestRuns>) -> Option<u32> {
-    let tests = tests?;
+    let tests = &tests?.public;
     scene.depends_on.iter().copied().filter(|id| tests.get(id).is_none_or(|t| t.fraction() < 1.0)).min()
 }
 
-/// Test points by the fraction passed; image points by the culprit rule (module docs).
+/// One part of a checkpoint's points: its public checks, or its hidden ones.
+struct Part<'a> {
+    /// `""` or `"hidden "`: how its reasons begin.
+    label: &'static str,
+    test_points: f64,
+    image_points: f64,
+    filter: &'a str,
+    tests: Option<&'a TestRun>,
+    scenes: Vec<&'a SceneResult>,
+}
+
+/// A part's points, why points were lost, and whether the checkpoint itself is to blame.
+#[derive(Default)]
+struct PartScore {
+    test_score: f64,
+    image_score: f64,
+    reasons: Vec<String>,
+    blamed: bool,
+}
+
+/// Test points by the fraction passed; image points by the culprit rule (module docs); the
+/// hidden checks, if any, scored the same way beside the public ones.
 /// `stubbed`: the checkpoints whose regions are all still the starter's `todo!()`.
 fn score_checkpoint(
     checkpoint: &Checkpoint,
@@ -425,71 +476,104 @@ fn score_checkpoint(
     scenes: &[SceneResult],
 ) -> CheckpointResult {
     let id = checkpoint.id;
-    let own_tests = tests.and_then(|t| t.get(&id));
+    let graded = |hidden: bool| -> Vec<&SceneResult> {
+        scenes.iter().filter(|s| s.scene.hidden == hidden && s.scene.grades.contains(&id)).collect()
+    };
+    let public = Part {
+        label: "",
+        test_points: checkpoint.test_points,
+        image_points: checkpoint.image_points,
+        filter: &checkpoint.test_filter,
+        tests: tests.and_then(|t| t.public.get(&id)),
+        scenes: graded(false),
+    };
+    let hidden = checkpoint.hidden.as_ref().map(|h| Part {
+        label: "hidden ",
+        test_points: h.test_points,
+        image_points: h.image_points,
+        filter: h.test_filter.as_deref().unwrap_or_default(),
+        tests: tests.and_then(|t| t.hidden.get(&id)),
+        scenes: graded(true),
+    });
+    let mut total = PartScore::default();
+    if stubbed.contains(&id) && public.tests.is_some() {
+        total.reasons.push("not started: its code is still the starter's todo!()".to_string());
+    }
+    for part in std::iter::once(&public).chain(hidden.as_ref()) {
+        let score = score_part(id, part, tests, stubbed);
+        total.test_score += score.test_score;
+        total.image_score += score.image_score;
+        total.reasons.extend(score.reasons);
+        total.blamed |= score.blamed;
+    }
+    let advice = if stubbed.contains(&id) {
+        Some(format!("Not started yet: read {} first.", checkpoint.handout.display()))
+    } else {
+        total.blamed.then(|| hint_text(checkpoint))
+    };
+    CheckpointResult {
+        checkpoint: checkpoint.clone(),
+        tests: public.tests.cloned(),
+        hidden_tests: hidden.and_then(|h| h.tests.cloned()),
+        test_score: total.test_score,
+        image_score: total.image_score,
+        reasons: total.reasons,
+        advice,
+    }
+}
+
+fn score_part(id: u32, part: &Part, tests: Option<&TestRuns>, stubbed: &[u32]) -> PartScore {
     let not_started = |k: u32| stubbed.contains(&k);
-    let mut reasons = Vec::new();
-    let mut blamed = false;
-    let test_score = own_tests.map_or(0.0, |t| {
+    let label = part.label;
+    let mut score = PartScore::default();
+    if let Some(t) = part.tests {
         if not_started(id) {
-            reasons.push("not started: its code is still the starter's todo!()".to_string());
+            // Said once for the whole checkpoint.
         } else if let Some(e) = &t.error {
-            reasons.push(format!("unit tests: {e}"));
+            score.reasons.push(format!("{label}unit tests: {e}"));
         } else if t.failed > 0 {
             // The test's own name reads as a sentence; its module path is the checkpoint's.
             let names: Vec<&str> = t.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f)).collect();
             let more = names.len().saturating_sub(SHOWN_FAILURES);
             let more = if more > 0 { format!(" and {more} more") } else { String::new() };
-            reasons.push(format!(
-                "unit tests: {} of {} failed: {}{more}",
+            score.reasons.push(format!(
+                "{label}unit tests: {} of {} failed: {}{more}",
                 t.failed,
                 t.passed + t.failed,
                 names[..names.len().min(SHOWN_FAILURES)].join(", ")
             ));
         } else if t.passed == 0 {
-            reasons.push(format!("unit tests: `cargo test {}` ran no test", checkpoint.test_filter));
+            score.reasons.push(format!("{label}unit tests: `cargo test {}` ran no test", part.filter));
         }
-        blamed = t.fraction() < 1.0;
-        checkpoint.test_points * t.fraction()
-    });
-    let mine: Vec<&SceneResult> = scenes.iter().filter(|s| s.scene.grades.contains(&id)).collect();
+        score.blamed = t.fraction() < 1.0;
+        score.test_score = part.test_points * t.fraction();
+    }
     let mut kept = 0usize;
-    for s in &mine {
+    for s in &part.scenes {
         if s.passed() {
             kept += 1;
             continue;
         }
         let why = s.error.clone().unwrap_or_else(|| failed_checks(s));
+        let name = &s.scene.name;
         match culprit(&s.scene, tests) {
             Some(k) if k > id => kept += 1,
-            Some(k) if k < id && not_started(k) => reasons.push(format!(
-                "scene {}: lost because checkpoint {k} is not started; write checkpoint {k} first",
-                s.scene.name
+            Some(k) if k < id && not_started(k) => score.reasons.push(format!(
+                "{label}scene {name}: lost because checkpoint {k} is not started; write checkpoint {k} first"
             )),
-            Some(k) if k < id => reasons.push(format!(
-                "scene {}: lost because checkpoint {k} is wrong (its unit tests fail); fix checkpoint {k} first ({why})",
-                s.scene.name
+            Some(k) if k < id => score.reasons.push(format!(
+                "{label}scene {name}: lost because checkpoint {k} is wrong (its unit tests fail); fix checkpoint {k} first ({why})"
             )),
             _ => {
-                blamed = true;
-                reasons.push(format!("scene {}: {why}", s.scene.name));
+                score.blamed = true;
+                score.reasons.push(format!("{label}scene {name}: {why}"));
             }
         }
     }
-    let image_score =
-        if mine.is_empty() { 0.0 } else { checkpoint.image_points * kept as f64 / mine.len() as f64 };
-    let advice = if not_started(id) {
-        Some(format!("Not started yet: read {} first.", checkpoint.handout.display()))
-    } else {
-        blamed.then(|| hint_text(checkpoint))
-    };
-    CheckpointResult {
-        checkpoint: checkpoint.clone(),
-        tests: own_tests.cloned(),
-        test_score,
-        image_score,
-        reasons,
-        advice,
+    if !part.scenes.is_empty() {
+        score.image_score = part.image_points * kept as f64 / part.scenes.len() as f64;
     }
+    score
 }
 
 /// "ssim: got 0.9120, needs >= 0.9900, ..." for the checks that failed.
@@ -507,9 +591,13 @@ fn failed_checks(s: &SceneResult) -> String {
 mod tests {
     use super::*;
 
+    fn root() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+    }
+
+    /// The public rubric, without the hidden checks.
     fn rubric() -> Rubric {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        Rubric::load(&root.join("checkpoints/rubric.toml"), &root).unwrap()
+        Rubric::load(&root().join(crate::rubric::RUBRIC), &root()).unwrap()
     }
 
     fn failed_scene(rubric: &Rubric, name: &str) -> SceneResult {
@@ -528,7 +616,7 @@ mod tests {
     fn runs(failing: impl Fn(u32) -> bool) -> TestRuns {
         let run =
             |id| TestRun { passed: 5 - failing(id) as u32, failed: failing(id) as u32, ..TestRun::default() };
-        (1..=7).map(|id| (id, run(id))).collect()
+        TestRuns { public: (1..=7).map(|id| (id, run(id))).collect(), hidden: BTreeMap::new() }
     }
 
     fn scored(
@@ -573,5 +661,33 @@ mod tests {
         for c in &results[2..] {
             assert!(c.advice.as_deref().is_some_and(|a| a.starts_with("Not started")), "{:?}", c.advice);
         }
+    }
+
+    /// A hidden scene that fails costs the hidden image points only, with a reason naming it as
+    /// hidden; the hidden tests' points come beside the public ones.
+    #[test]
+    fn grader_scores_hidden_checks_beside_the_public_ones() {
+        let rubric = Rubric::of_tree(&root()).unwrap();
+        let six = rubric.checkpoints.iter().find(|c| c.id == 6).unwrap();
+        let hidden = six.hidden.clone().expect("checkpoint 6 has hidden checks");
+        let mut tests = runs(|_| false);
+        tests.hidden.insert(6, TestRun { passed: 1, failed: 1, ..TestRun::default() });
+        let passed = |name: &str| SceneResult { error: None, ..failed_scene(&rubric, name) };
+        let scenes: Vec<SceneResult> = rubric
+            .scenes
+            .iter()
+            .map(|s| if s.hidden { failed_scene(&rubric, &s.name) } else { passed(&s.name) })
+            .collect();
+        let result = score_checkpoint(six, Some(&tests), &[], &scenes);
+        assert_eq!(result.image_score, six.image_points);
+        assert_eq!(result.test_score, six.test_points + hidden.test_points / 2.0);
+        assert_eq!(result.max_score(true), six.all_test_points() + six.all_image_points());
+        assert!(
+            result.reasons.iter().any(|r| r.starts_with("hidden unit tests: 1 of 2 failed")),
+            "{:?}",
+            result.reasons
+        );
+        assert!(result.reasons.iter().any(|r| r.starts_with("hidden scene ")), "{:?}", result.reasons);
+        assert_eq!(result.tests_cell(), "5/5 + hidden 1/2");
     }
 }

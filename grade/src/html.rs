@@ -26,13 +26,7 @@ pub fn page(report: &GradeReport) -> String {
     let _ = writeln!(h, "<h1>raylab: {:.1} / {:.0} points</h1>", report.score(), report.max_score());
     let _ = writeln!(h, "<table class=\"checkpoints\"><tr><th>#</th><th>checkpoint</th><th>tests</th><th>images</th><th>points</th><th>why points were lost</th></tr>");
     for c in &report.checkpoints {
-        let tests =
-            c.tests.as_ref().map_or("-".to_string(), |t| format!("{}/{}", t.passed, t.passed + t.failed));
-        let images = if c.checkpoint.image_points > 0.0 {
-            format!("{:.1}/{:.0}", c.image_score, c.checkpoint.image_points)
-        } else {
-            "-".to_string()
-        };
+        let (tests, images) = (c.tests_cell(), c.images_cell());
         let class = if c.reasons.is_empty() { "pass" } else { "fail" };
         let reasons: Vec<String> = c.reasons.iter().map(|r| escape(r)).collect();
         let hint =
@@ -53,12 +47,16 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
     let grades: Vec<String> = s.scene.grades.iter().map(u32::to_string).collect();
     let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}; rendered in {2:.1} s</p>",
         escape(&s.scene.name), grades.join(", "), s.seconds);
-    h.push_str("<div class=\"images\">");
-    figure(h, "reference", Some(&s.reference));
-    figure(h, "yours", s.render.as_ref());
-    let diff = s.ssim.as_ref().map(|ssim| heatmap(ssim, &s.reference));
-    figure(h, "difference (1 − SSIM: black same, yellow very different)", diff.as_ref());
-    h.push_str("</div>\n");
+    if s.scene.hidden {
+        h.push_str("<p>A hidden scene: its checks are shown, never its images.</p>\n");
+    } else {
+        h.push_str("<div class=\"images\">");
+        figure(h, "reference", Some(&s.reference));
+        figure(h, "yours", s.render.as_ref());
+        let diff = s.ssim.as_ref().map(|ssim| heatmap(ssim, &s.reference));
+        figure(h, "difference (1 − SSIM: black same, yellow very different)", diff.as_ref());
+        h.push_str("</div>\n");
+    }
     if let Some(e) = &s.error {
         let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(e));
     }
@@ -106,4 +104,44 @@ fn png_data_url(image: &RgbImage) -> Result<String, image::ImageError> {
 /// Escapes text for HTML.
 pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grading::Phases;
+    use crate::rubric::Rubric;
+    use std::path::Path;
+
+    /// A hidden scene is reported by name and checks, without an image; a public one with three.
+    #[test]
+    fn the_report_never_shows_a_hidden_scenes_images() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let rubric = Rubric::of_tree(&root).unwrap();
+        let scene = |hidden: bool| {
+            let scene = rubric.scenes.iter().find(|s| s.hidden == hidden).unwrap().clone();
+            let image = RgbImage::new(16, 16);
+            let ssim = crate::ssim::SsimMap::new(&image, &image).unwrap();
+            SceneResult {
+                scene,
+                checks: Vec::new(),
+                error: None,
+                seconds: 0.1,
+                render: Some(image.clone()),
+                reference: image,
+                ssim: Some(ssim),
+            }
+        };
+        let report = |hidden: bool| GradeReport {
+            scenes: vec![scene(hidden)],
+            checkpoints: Vec::new(),
+            tests_ran: false,
+            seconds: 0.0,
+            phases: Phases::default(),
+        };
+        let (public, hidden) = (page(&report(false)), page(&report(true)));
+        assert_eq!(public.matches("<img").count(), 3);
+        assert_eq!(hidden.matches("<img").count(), 0);
+        assert!(hidden.contains(&escape(&report(true).scenes[0].scene.name)));
+    }
 }

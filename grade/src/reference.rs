@@ -2,7 +2,8 @@
 //!
 //! `reference/manifest.toml` records, per graded scene, a hash of the scene file and every mesh it
 //! reads, the spp and seed, the raylab version and the render time. Grading refuses (exit 2) a
-//! reference whose scene or meshes changed since, rather than mis-grading against it.
+//! reference whose scene or meshes changed since, rather than mis-grading against it. Hidden
+//! scenes keep theirs, and their own manifest, in `hidden/reference/`.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -46,19 +47,22 @@ pub struct ReferenceEntry {
     pub graded_render_seconds: f64,
 }
 
-/// The reference folder under `root`.
-pub fn reference_dir(root: &Path) -> PathBuf {
-    root.join("reference")
+/// The reference folders, public and hidden, relative to the repository root.
+pub const REFERENCE_DIRS: [&str; 2] = ["reference", "hidden/reference"];
+
+/// The folder of a scene's reference, relative to the repository root.
+fn reference_dir(hidden: bool) -> &'static str {
+    REFERENCE_DIRS[hidden as usize]
 }
 
 /// The reference image of a scene.
 pub fn image_path(root: &Path, scene: &GradedScene) -> PathBuf {
-    reference_dir(root).join(format!("{}.png", scene.name))
+    root.join(reference_dir(scene.hidden)).join(format!("{}.png", scene.name))
 }
 
 /// The feature masks of a scene.
 pub fn masks_path(root: &Path, scene: &GradedScene) -> PathBuf {
-    reference_dir(root).join(format!("{}.masks.png", scene.name))
+    root.join(reference_dir(scene.hidden)).join(format!("{}.masks.png", scene.name))
 }
 
 /// 64-bit FNV-1a: a small, fixed, well-known hash; enough to notice an edited file.
@@ -85,18 +89,28 @@ pub fn inputs_hash(scene_file: &Path) -> Result<String, String> {
 }
 
 impl Manifest {
-    /// Reads `reference/manifest.toml`.
-    pub fn load(root: &Path) -> Result<Manifest, String> {
-        let path = reference_dir(root).join("manifest.toml");
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| format!("{}: cannot read ({e}); run `grader update-references`", path.display()))?;
-        toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))
+    /// Reads `reference/manifest.toml`, and `hidden/reference/manifest.toml` if the rubric has
+    /// hidden scenes.
+    pub fn load(root: &Path, rubric: &Rubric) -> Result<Manifest, String> {
+        let mut manifest = Manifest::default();
+        let has_hidden = rubric.scenes.iter().any(|s| s.hidden);
+        for dir in &REFERENCE_DIRS[..1 + has_hidden as usize] {
+            let path = root.join(dir).join("manifest.toml");
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                format!("{}: cannot read ({e}); run `grader update-references`", path.display())
+            })?;
+            let part: Manifest =
+                toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))?;
+            manifest.references.extend(part.references);
+        }
+        Ok(manifest)
     }
 
     /// The entry of a scene, checked against the scene's files and the rubric's spp and seed.
     pub fn fresh_entry(&self, root: &Path, scene: &GradedScene) -> Result<&ReferenceEntry, String> {
         let stale = |why: &str| {
-            format!("reference/{}.png is stale: {why}; run `grader update-references`", scene.name)
+            let image = Path::new(reference_dir(scene.hidden)).join(format!("{}.png", scene.name));
+            format!("{} is stale: {why}; run `grader update-references`", image.display())
         };
         let entry = self
             .references
@@ -131,9 +145,10 @@ pub fn render_scene(
 /// Re-renders every reference image and mask and rewrites the manifest (the instructor's
 /// command; it must run on the reference solution).
 pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -> Result<Manifest, String> {
-    std::fs::create_dir_all(reference_dir(root)).map_err(|e| format!("reference/: {e}"))?;
     let mut manifest = Manifest::default();
     for scene in &rubric.scenes {
+        let dir = root.join(reference_dir(scene.hidden));
+        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         progress.set_message(scene.name.clone());
         let start = Instant::now();
         let (loaded, film) = render_scene(root, scene, scene.reference_spp)?;
@@ -155,11 +170,27 @@ pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -
         });
         progress.inc(1);
     }
-    let text = toml::to_string_pretty(&manifest).map_err(|e| e.to_string())?;
-    let path = reference_dir(root).join("manifest.toml");
-    let header = "# Written by `grader update-references`; do not edit by hand.\n\n";
-    write_file_atomic(&path, format!("{header}{text}").as_bytes())
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    // Each folder's manifest lists its own scenes, so the starter's has no word of hidden ones.
+    for hidden in [false, true] {
+        let names: Vec<&str> =
+            rubric.scenes.iter().filter(|s| s.hidden == hidden).map(|s| s.name.as_str()).collect();
+        if hidden && names.is_empty() {
+            continue;
+        }
+        let part = Manifest {
+            references: manifest
+                .references
+                .iter()
+                .filter(|r| names.contains(&r.name.as_str()))
+                .cloned()
+                .collect(),
+        };
+        let text = toml::to_string_pretty(&part).map_err(|e| e.to_string())?;
+        let path = root.join(reference_dir(hidden)).join("manifest.toml");
+        let header = "# Written by `grader update-references`; do not edit by hand.\n\n";
+        write_file_atomic(&path, format!("{header}{text}").as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
     Ok(manifest)
 }
 

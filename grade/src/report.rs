@@ -45,22 +45,15 @@ pub fn text(report: &GradeReport) -> String {
         }
     }
     let _ = writeln!(out);
-    let _ = writeln!(out, "{:<3} {:<44} {:>9} {:>9} {:>11}", "#", "checkpoint", "tests", "images", "points");
+    let width = report.checkpoints.iter().map(|c| c.tests_cell().len()).max().unwrap_or(0).max(9);
+    let _ =
+        writeln!(out, "{:<3} {:<44} {:>width$} {:>9} {:>11}", "#", "checkpoint", "tests", "images", "points");
     for c in &report.checkpoints {
-        let tests = match &c.tests {
-            Some(t) if t.error.is_none() => format!("{}/{}", t.passed, t.passed + t.failed),
-            Some(_) => "error".to_string(),
-            None => "-".to_string(),
-        };
-        let images = if c.checkpoint.image_points > 0.0 {
-            format!("{:.1}/{:.0}", c.image_score, c.checkpoint.image_points)
-        } else {
-            "-".to_string()
-        };
+        let (tests, images) = (c.tests_cell(), c.images_cell());
         let points = format!("{:.1}/{:.0}", c.score(), c.max_score(report.tests_ran));
         let _ = writeln!(
             out,
-            "{:<3} {:<44} {tests:>9} {images:>9} {points:>11}",
+            "{:<3} {:<44} {tests:>width$} {images:>9} {points:>11}",
             c.checkpoint.id, c.checkpoint.title
         );
         for reason in &c.reasons {
@@ -100,20 +93,25 @@ pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
                 "status": status, "output": output, "visibility": "visible",
             }));
         };
-        if report.tests_ran && c.checkpoint.test_points > 0.0 {
+        let hidden = c.checkpoint.hidden.as_ref();
+        let with_hidden =
+            |points: f64| if points > 0.0 { format!(" ({points} of them hidden)") } else { String::new() };
+        if report.tests_ran && c.checkpoint.all_test_points() > 0.0 {
+            let hidden = with_hidden(hidden.map_or(0.0, |h| h.test_points));
             part(
                 &format!("{id}.1"),
-                format!("Checkpoint {id}: {}: unit tests", c.checkpoint.title),
+                format!("Checkpoint {id}: {}: unit tests{hidden}", c.checkpoint.title),
                 c.test_score,
-                c.checkpoint.test_points,
+                c.checkpoint.all_test_points(),
             );
         }
-        if c.checkpoint.image_points > 0.0 {
+        if c.checkpoint.all_image_points() > 0.0 {
+            let hidden = with_hidden(hidden.map_or(0.0, |h| h.image_points));
             part(
                 &format!("{id}.2"),
-                format!("Checkpoint {id}: {}: images", c.checkpoint.title),
+                format!("Checkpoint {id}: {}: images{hidden}", c.checkpoint.title),
                 c.image_score,
-                c.checkpoint.image_points,
+                c.checkpoint.all_image_points(),
             );
         }
     }
@@ -138,11 +136,11 @@ fn round2(x: f64) -> f64 {
     (x * 100.0).round() / 100.0
 }
 
-/// Writes each scene's render and difference heat map into `dir` as `<scene>.png` and
-/// `<scene>.diff.png`.
+/// Writes each public scene's render and difference heat map into `dir` as `<scene>.png` and
+/// `<scene>.diff.png` (a hidden scene's images are never shown).
 pub fn write_images(report: &GradeReport, dir: &Path) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    for s in &report.scenes {
+    for s in report.scenes.iter().filter(|s| !s.scene.hidden) {
         if let (Some(render), Some(ssim)) = (&s.render, &s.ssim) {
             write_png(&dir.join(format!("{}.png", s.scene.name)), render).map_err(|e| e.to_string())?;
             write_png(&dir.join(format!("{}.diff.png", s.scene.name)), &heatmap(ssim, &s.reference))

@@ -5,6 +5,12 @@
 //! <test_filter>`), and `image_points` in proportion to the graded scenes naming it that pass every
 //! check. A scene is rendered with the code as it stands and compared with its reference image;
 //! see [`Check`] for the metrics.
+//!
+//! **Hidden checks.** The instructor's tree may add `hidden/rubric.toml`: more tests and scenes
+//! per checkpoint, worth points of their own, that the student starter does not ship (`cargo
+//! xtask starter` leaves out `hidden/` and `tests/hidden/`). [`Rubric::of_tree`] merges them in:
+//! a hidden scene is graded like a public one, against `hidden/reference/`, and reports show it by
+//! name and result but never its images.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -42,7 +48,55 @@ pub struct Checkpoint {
     pub hint: String,
     /// The handout, relative to the repository root.
     pub handout: PathBuf,
+    /// The instructor's hidden checks of this checkpoint, if any (from `hidden/rubric.toml`).
+    #[serde(skip)]
+    pub hidden: Option<HiddenChecks>,
 }
+
+impl Checkpoint {
+    /// Points for unit tests, hidden ones included.
+    pub fn all_test_points(&self) -> f64 {
+        self.test_points + self.hidden.as_ref().map_or(0.0, |h| h.test_points)
+    }
+
+    /// Points for scenes, hidden ones included.
+    pub fn all_image_points(&self) -> f64 {
+        self.image_points + self.hidden.as_ref().map_or(0.0, |h| h.image_points)
+    }
+}
+
+/// A checkpoint's hidden checks: tests and scenes the student never sees, worth points of their
+/// own beside the public ones.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HiddenChecks {
+    /// The checkpoint.
+    pub id: u32,
+    /// Points for the hidden unit tests.
+    #[serde(default)]
+    pub test_points: f64,
+    /// Points for the hidden scenes grading this checkpoint.
+    #[serde(default)]
+    pub image_points: f64,
+    /// The `cargo test` filter of the hidden tests: it must not match a public test name (so not
+    /// `checkpointN`).
+    pub test_filter: Option<String>,
+}
+
+/// `hidden/rubric.toml`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+struct HiddenRubric {
+    #[serde(rename = "checkpoint", default)]
+    checkpoints: Vec<HiddenChecks>,
+    #[serde(rename = "scene", default)]
+    scenes: Vec<GradedScene>,
+}
+
+/// Where a tree keeps its rubric...
+pub const RUBRIC: &str = "checkpoints/rubric.toml";
+/// ...and the instructor's hidden checks.
+pub const HIDDEN_RUBRIC: &str = "hidden/rubric.toml";
 
 /// A scene the grader renders and compares.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -67,6 +121,10 @@ pub struct GradedScene {
     /// What must hold for the scene to pass.
     #[serde(rename = "check")]
     pub checks: Vec<Check>,
+    /// Whether it comes from `hidden/rubric.toml`: its reference lives in `hidden/reference/`,
+    /// and no report shows its images.
+    #[serde(skip)]
+    pub hidden: bool,
 }
 
 /// One requirement on a render, compared with the reference.
@@ -144,15 +202,59 @@ impl Metric {
     }
 }
 
+fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))
+}
+
 impl Rubric {
+    /// The rubric of the tree at `root`: `checkpoints/rubric.toml`, with the hidden checks of
+    /// `hidden/rubric.toml` merged in if the tree has them (the instructor's does, a starter not).
+    pub fn of_tree(root: &Path) -> Result<Rubric, String> {
+        let mut rubric = Rubric::load(&root.join(RUBRIC), root)?;
+        let path = root.join(HIDDEN_RUBRIC);
+        if path.exists() {
+            let hidden: HiddenRubric = read_toml(&path)?;
+            rubric.merge_hidden(hidden, root).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        Ok(rubric)
+    }
+
     /// Loads and checks `path`; every problem is reported as `path: what`.
     pub fn load(path: &Path, root: &Path) -> Result<Rubric, String> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        let rubric: Rubric =
-            toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))?;
+        let rubric: Rubric = read_toml(path)?;
         rubric.validate(root).map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(rubric)
+    }
+
+    fn merge_hidden(&mut self, hidden: HiddenRubric, root: &Path) -> Result<(), String> {
+        for h in hidden.checkpoints {
+            let id = h.id;
+            let checkpoint = self
+                .checkpoints
+                .iter_mut()
+                .find(|c| c.id == id)
+                .ok_or_else(|| format!("checkpoint {id} is not in {RUBRIC}"))?;
+            let filter = h.test_filter.as_deref().unwrap_or_default();
+            if h.test_points < 0.0 || h.image_points < 0.0 || (h.test_points > 0.0) == filter.is_empty() {
+                return Err(format!(
+                    "checkpoint {id}: points must not be negative, and a test_filter given exactly for test points"
+                ));
+            }
+            if filter.contains("checkpoint") {
+                return Err(format!(
+                    "checkpoint {id}: test_filter {filter:?} would also match public tests; name hidden tests `hidden{id}_...`"
+                ));
+            }
+            if checkpoint.hidden.replace(h).is_some() {
+                return Err(format!("checkpoint {id} appears twice"));
+            }
+        }
+        for mut scene in hidden.scenes {
+            scene.hidden = true;
+            self.scenes.push(scene);
+        }
+        self.validate(root)
     }
 
     /// The checks `rustlings dev check` would make: ids in order, files exist, every scene
@@ -194,7 +296,7 @@ impl Rubric {
             if let Some(g) = s.grades.iter().find(|g| !s.depends_on.contains(g)) {
                 return Err(format!("scene {}: grades checkpoint {g} but does not depend on it", s.name));
             }
-            graded.extend(s.grades.iter().copied());
+            graded.extend(s.grades.iter().map(|&g| (g, s.hidden)));
             for check in &s.checks {
                 if check.metric.needs_mask() != check.mask.is_some()
                     || check.min.is_some() == check.max.is_some()
@@ -206,14 +308,22 @@ impl Rubric {
                 }
             }
         }
-        if let Some(c) = self.checkpoints.iter().find(|c| c.image_points > 0.0 && !graded.contains(&c.id)) {
-            return Err(format!("checkpoint {} has image points but no scene grades it", c.id));
+        for c in &self.checkpoints {
+            let hidden_points = c.hidden.as_ref().map_or(0.0, |h| h.image_points);
+            for (points, hidden, what) in [(c.image_points, false, ""), (hidden_points, true, "hidden ")] {
+                if (points > 0.0) != graded.contains(&(c.id, hidden)) {
+                    return Err(format!(
+                        "checkpoint {}: {what}image points and {what}scenes grading it go together",
+                        c.id
+                    ));
+                }
+            }
         }
         Ok(())
     }
 
-    /// Total points available.
+    /// Total points available, hidden ones included.
     pub fn total_points(&self) -> f64 {
-        self.checkpoints.iter().map(|c| c.test_points + c.image_points).sum()
+        self.checkpoints.iter().map(|c| c.all_test_points() + c.all_image_points()).sum()
     }
 }

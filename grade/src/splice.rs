@@ -21,6 +21,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::allow::check_region;
+use crate::reference::REFERENCE_DIRS;
 use crate::stub::{is_stub, region_bodies, region_function, rust_files, stub_regions};
 use crate::variants::{copy_tree, write_if_changed};
 
@@ -275,9 +276,9 @@ fn blank_regions(bytes: &[u8]) -> Vec<u8> {
     out.into_bytes()
 }
 
-/// Writes the scratch tree: the instructor's tree without its references (graded code never
-/// runs beside them) and build output, every region holding the submission's body (or the stub)
-/// and the solution's, and the `graded` switch between them. Files that already hold the right
+/// Writes the scratch tree: the instructor's tree without its references, hidden ones included
+/// (graded code never runs beside them), and without build output; every region holding the
+/// submission's body (or the stub) and the solution's, and the `graded` switch between them. Files that already hold the right
 /// text are left alone, so the next submission rebuilds only what differs.
 pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Path) -> Result<(), String> {
     let mut files: Vec<&PathBuf> = submission.regions.iter().map(|(r, _)| &r.file).collect();
@@ -285,8 +286,9 @@ pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Pat
     // Written below: copying them first would touch them and make cargo rebuild every time.
     let written: Vec<String> =
         files.iter().map(|f| f.to_string_lossy().into_owned()).chain([LIB.to_string()]).collect();
-    let skip: Vec<&str> = [".git", "target", "out", "reference"]
+    let skip: Vec<&str> = [".git", "target", "out"]
         .into_iter()
+        .chain(REFERENCE_DIRS)
         .chain(written.iter().map(String::as_str))
         .collect();
     if dest.is_dir() {
@@ -412,10 +414,18 @@ mod tests {
             std::fs::write(tree.join("src/a.rs"), text).unwrap();
             std::fs::write(tree.join("src/lib.rs"), "mod a;\n").unwrap();
         }
+        // References, public and hidden, stay out of the scratch tree; hidden scenes go in.
+        for dir in ["reference", "hidden/reference", "hidden/scenes"] {
+            std::fs::create_dir_all(ours.join(dir)).unwrap();
+            std::fs::write(ours.join(dir).join("x.png"), "image").unwrap();
+        }
         let submission = read_submission(&ours, &theirs).unwrap();
         write_spliced_tree(&ours, &submission, &dest).unwrap();
         let spliced = std::fs::read_to_string(dest.join("src/a.rs")).unwrap();
+        let copied =
+            ["reference", "hidden/reference", "hidden/scenes"].map(|d| dest.join(d).join("x.png").exists());
         std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(copied, [false, false, true]);
         for (n, student, solution) in [(2, "10 * 10", "1 + 1"), (3, "20 * 20", "2 + 2")] {
             let want =
                 format!("if crate::graded::student({n}) {{\n    {student}\n}} else {{\n    {solution}\n}}\n");

@@ -62,7 +62,7 @@ pub fn grade_submission(
         *taken = Taken::DoesNotCompile(error);
         write_spliced_tree(instructor, &submission, &tree)?;
     }
-    let rubric = Rubric::load(&instructor.join("checkpoints/rubric.toml"), instructor)?;
+    let rubric = Rubric::of_tree(instructor)?;
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
     let base = GradeOptions {
         code: Some(tree),

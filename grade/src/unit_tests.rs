@@ -38,9 +38,16 @@ impl TestRun {
     }
 }
 
-/// The test targets that hold checkpoint tests: the renderer's unit tests and its one binary of
-/// checkpoint integration tests (`tests/checkpoints/`). Leaving out the CLI tests saves a link.
-const CHECKPOINT_TARGETS: [&str; 3] = ["--lib", "--test", "checkpoints"];
+/// The test targets that hold checkpoint tests: the renderer's unit tests, its one binary of
+/// checkpoint integration tests (`tests/checkpoints/`), and the instructor's hidden tests
+/// (`tests/hidden/`) if the tree has them. Leaving out the CLI tests saves a link.
+fn checkpoint_targets(root: &Path) -> Vec<&'static str> {
+    let mut targets = vec!["--lib", "--test", "checkpoints"];
+    if root.join("tests/hidden/main.rs").is_file() {
+        targets.extend(["--test", "hidden"]);
+    }
+    targets
+}
 
 /// A checkpoint test binary of a tree, and its tests.
 #[derive(Clone, Debug)]
@@ -63,7 +70,8 @@ const TEST_TIME_LIMIT: Duration = Duration::from_secs(10);
 /// `Err` carries the first compiler error.
 pub fn build_tests(root: &Path, target: Option<&Path>, limit: Duration) -> Result<TestBinaries, String> {
     let args =
-        [&["test", "--no-run", "--message-format=json-render-diagnostics"][..], &CHECKPOINT_TARGETS].concat();
+        [&["test", "--no-run", "--message-format=json-render-diagnostics"][..], &checkpoint_targets(root)]
+            .concat();
     let run =
         run_with_limit(cargo(root, target, &args), limit).map_err(|e| format!("cannot run cargo: {e}"))?;
     if !run.success() {

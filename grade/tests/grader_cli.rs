@@ -60,7 +60,8 @@ fn grader_gives_the_solution_full_image_marks_and_writes_every_report() {
     ]);
     assert_eq!(result.status.code(), Some(0), "{}", stderr(&result));
     let table = String::from_utf8_lossy(&result.stdout);
-    assert!(table.contains("total: 40.0 / 40 points"), "{table}");
+    // 40 public image points and 8 hidden ones.
+    assert!(table.contains("total: 48.0 / 48 points"), "{table}");
 
     // Gradescope's field names, exactly.
     let results: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
@@ -73,7 +74,7 @@ fn grader_gives_the_solution_full_image_marks_and_writes_every_report() {
         assert_eq!(keys, ["max_score", "name", "number", "output", "score", "status", "visibility"]);
         assert_eq!(test["status"], "passed");
     }
-    assert_eq!(results["score"], 40.0);
+    assert_eq!(results["score"], 48.0);
 
     // The HTML report: self-contained, three images per scene.
     let page = std::fs::read_to_string(html.join("index.html")).unwrap();
@@ -86,6 +87,17 @@ fn grader_gives_the_solution_full_image_marks_and_writes_every_report() {
         assert_eq!(section.matches("src=\"data:image/png;base64,").count(), 3, "{scene}: embedded");
         assert!(
             out.join(format!("{scene}.png")).is_file() && out.join(format!("{scene}.diff.png")).is_file()
+        );
+    }
+    // A hidden scene: its checks, never its images.
+    for scene in ["gem_gallery", "lamp_corner", "picket_fence"] {
+        let start =
+            page.find(&format!("id=\"scene-{scene}\"")).unwrap_or_else(|| panic!("no section for {scene}"));
+        let section = &page[start..start + page[start..].find("</section>").unwrap()];
+        assert_eq!(section.matches("<img ").count(), 0, "{scene} is hidden");
+        assert!(section.contains("ssim"), "{scene}: its checks");
+        assert!(
+            !out.join(format!("{scene}.png")).exists() && !out.join(format!("{scene}.diff.png")).exists()
         );
     }
     assert!(!page.contains("src=\"http"), "nothing is fetched");
@@ -213,7 +225,7 @@ fn grader_watch_moves_past_a_passing_checkpoint_and_ends() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}");
     assert!(
-        text.contains("checkpoint 7 passes: 10.0/10") && text.contains("every checkpoint up to 7 passes"),
+        text.contains("checkpoint 7 passes: 14.0/14") && text.contains("every checkpoint up to 7 passes"),
         "{text}"
     );
 }

@@ -3,14 +3,17 @@
 //! `cargo xtask starter --out DIR` writes the student starter from the reference solution;
 //! `cargo xtask stub-matrix` proves, for each checkpoint N stubbed alone, that every checkpoint-N
 //! test fails and every test of the checkpoints before N passes; `cargo xtask zoo` runs the mistake
-//! catalogue and writes which check catches each mistake.
+//! catalogue and writes which check catches each mistake; `cargo xtask gradescope-dry-run` runs
+//! the Gradescope autograder's life cycle on a scratch root.
 //!
 //! The starter is the whole repository with every solution region replaced by its stub
 //! (`todo!("checkpoint N: ...")`, see `raylab_grade::stub`), and without what only instructors
 //! need: this generator, the mistake catalogue (`checkpoints/variants.toml`) and its calibration
 //! table. It then checks that no line of any solution survives in the starter.
 
+mod classroom;
 mod first_build;
+mod gradescope;
 mod starter;
 mod stub_matrix;
 mod zoo;
@@ -42,6 +45,9 @@ enum Command {
     /// Time a student's first `cargo test checkpoint2` in a fresh starter with a cold target
     /// folder, and the edit-to-result time after one edit (docs/PERFORMANCE.md).
     FirstBuild,
+    /// Package the tree for Gradescope, unpack it in a scratch root, run setup.sh, and
+    /// run_autograder on the solution, the starter and two hostile submissions.
+    GradescopeDryRun,
 }
 
 /// Every checkpoint that has solution regions or tests.
@@ -55,6 +61,7 @@ fn main() -> ExitCode {
         Command::StubMatrix => stub_matrix::stub_matrix(),
         Command::Zoo => zoo::zoo(),
         Command::FirstBuild => first_build::first_build(),
+        Command::GradescopeDryRun => gradescope::gradescope_dry_run(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,6 +5,7 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
+use raylab_grade::package::tracked_files;
 use raylab_grade::stub::{region_bodies, rust_files};
 use raylab_grade::variants::stub_tree;
 
@@ -13,7 +14,7 @@ use crate::{repository, CHECKPOINTS};
 /// Left out of the starter: instructor-only material (this generator, the benchmarks, the
 /// mistake catalogue and what it measured, and the instructor's CI, which runs them). Paths are
 /// relative to the repository; a folder leaves out everything below it.
-const INSTRUCTOR_ONLY: [&str; 10] = [
+const INSTRUCTOR_ONLY: [&str; 12] = [
     "xtask",
     "bench",
     ".ci",
@@ -24,6 +25,9 @@ const INSTRUCTOR_ONLY: [&str; 10] = [
     "docs/INSTRUCTORS.md",
     "grade/tests",
     "tools",
+    // The hidden checks: scenes, references, rubric and tests graded only by the instructor.
+    "hidden",
+    "tests/hidden",
 ];
 
 /// The workspace section of the starter's `Cargo.toml`: the renderer and the grader only, in a
@@ -69,6 +73,12 @@ pub fn starter(out: &Path) -> Result<(), String> {
             .then(|| text.replace(on, "default = []"))
             .ok_or_else(|| format!("grade/Cargo.toml: no `{on}`"))
     })?;
+    let rubric = raylab_grade::rubric::Rubric::load(&out.join(raylab_grade::rubric::RUBRIC), out)?;
+    let workflow = out.join(".github/workflows/classroom.yml");
+    std::fs::create_dir_all(workflow.parent().unwrap_or(out))
+        .map_err(|e| format!("{}: {e}", workflow.display()))?;
+    std::fs::write(&workflow, crate::classroom::workflow(&rubric))
+        .map_err(|e| format!("{}: {e}", workflow.display()))?;
     stub_tree(&out.join("src"), &CHECKPOINTS).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
     let survivors = surviving_solution_lines(&root.join("src"), &out.join("src"))?;
     if !survivors.is_empty() {
@@ -97,28 +107,8 @@ fn documents(out: &Path) -> Result<Vec<String>, String> {
 /// working folder happens to hold, such as renders or reports, reaches students), without the
 /// instructor-only ones.
 fn starter_files(root: &Path) -> Result<Vec<PathBuf>, String> {
-    let out = std::process::Command::new("git")
-        .arg("-C")
-        .arg(root)
-        .args(["ls-files", "-z", "--cached"])
-        .output()
-        .map_err(|e| format!("cannot run git: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "git ls-files in {}: {}",
-            root.display(),
-            String::from_utf8_lossy(&out.stderr).trim()
-        ));
-    }
-    let listed =
-        String::from_utf8(out.stdout).map_err(|_| "git ls-files: a path is not UTF-8".to_string())?;
     let instructor_only = |file: &Path| INSTRUCTOR_ONLY.iter().any(|p| file.starts_with(p));
-    Ok(listed
-        .split('\0')
-        .filter(|f| !f.is_empty())
-        .map(PathBuf::from)
-        .filter(|f| !instructor_only(f) && root.join(f).is_file())
-        .collect())
+    Ok(tracked_files(root)?.into_iter().filter(|f| !instructor_only(f)).collect())
 }
 
 /// A document (README, docs) as students see it: blocks between `<!-- BEGIN INSTRUCTOR -->` and
@@ -240,6 +230,60 @@ mod tests {
         }
         std::fs::remove_dir_all(&out).unwrap();
         assert!(problems.is_empty(), "{}", problems.join("\n"));
+    }
+
+    /// The names of the hidden checks: the hidden scenes, and every hidden test function.
+    fn hidden_names() -> Vec<String> {
+        let rubric = raylab_grade::rubric::Rubric::of_tree(repository()).unwrap();
+        let mut names: Vec<String> =
+            rubric.scenes.iter().filter(|s| s.hidden).map(|s| s.name.clone()).collect();
+        for entry in std::fs::read_dir(repository().join("tests/hidden")).unwrap() {
+            let text = std::fs::read_to_string(entry.unwrap().path()).unwrap();
+            let tests = text.split("#[test]\nfn ").skip(1).filter_map(|t| t.split('(').next());
+            names.extend(tests.map(str::to_string));
+        }
+        names
+    }
+
+    /// The starter has no hidden check: no hidden folder, and no file naming a hidden scene or test.
+    #[test]
+    fn the_starter_ships_no_hidden_scene_reference_rubric_or_test() {
+        let names = hidden_names();
+        assert!(names.len() >= 3 + 6, "the hidden checks were not found: {names:?}");
+        let out = std::env::temp_dir().join(format!("raylab-starter-hidden-{}", std::process::id()));
+        starter(&out).unwrap();
+        let mut problems = Vec::new();
+        for folder in ["hidden", "tests/hidden"] {
+            if out.join(folder).exists() {
+                problems.push(format!("the starter ships {folder}/"));
+            }
+        }
+        for file in files_below(&out) {
+            let text = std::fs::read(out.join(&file)).map(|b| String::from_utf8_lossy(&b).into_owned());
+            for name in names.iter().filter(|n| text.as_ref().is_ok_and(|t| t.contains(n.as_str()))) {
+                problems.push(format!("{} names the hidden check {name}", file.display()));
+            }
+        }
+        std::fs::remove_dir_all(&out).unwrap();
+        assert!(problems.is_empty(), "{}", problems.join("\n"));
+    }
+
+    /// Every file below `root`, relative to it.
+    fn files_below(root: &Path) -> Vec<PathBuf> {
+        let mut found = Vec::new();
+        let mut folders = vec![PathBuf::new()];
+        while let Some(folder) = folders.pop() {
+            for entry in std::fs::read_dir(root.join(&folder)).unwrap() {
+                let entry = entry.unwrap();
+                let path = folder.join(entry.file_name());
+                if entry.file_type().unwrap().is_dir() {
+                    folders.push(path);
+                } else {
+                    found.push(path);
+                }
+            }
+        }
+        found
     }
 
     #[test]

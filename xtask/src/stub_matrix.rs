@@ -1,8 +1,9 @@
 //! The stub matrix: each checkpoint N stubbed alone, in a scratch tree, fails all of its own
-//! tests and passes every test of the checkpoints before it.
+//! tests, hidden ones included, and passes every test of the checkpoints before it.
 
 use std::time::Duration;
 
+use raylab_grade::rubric::Rubric;
 use raylab_grade::unit_tests::build_tests;
 use raylab_grade::variants::{make_scratch_tree, Variant};
 
@@ -14,6 +15,13 @@ pub fn stub_matrix() -> Result<(), String> {
     let work = repository().join("target/stub-matrix");
     // One target folder for every stub: cargo then reuses the dependencies built for earlier ones.
     let (tree, target) = (work.join("tree"), work.join("target"));
+    let rubric = Rubric::of_tree(repository())?;
+    // Each checkpoint's test filters: its public tests', and its hidden tests' if it has some.
+    let filters = |m: u32| {
+        let checkpoint = rubric.checkpoints.iter().find(|c| c.id == m);
+        let hidden = checkpoint.and_then(|c| c.hidden.as_ref()).and_then(|h| h.test_filter.clone());
+        checkpoint.map(|c| c.test_filter.clone()).into_iter().chain(hidden).collect::<Vec<_>>()
+    };
     let mut problems = Vec::new();
     for n in 2..=7 {
         let variant = Variant {
@@ -30,9 +38,9 @@ pub fn stub_matrix() -> Result<(), String> {
         let binaries = build_tests(&tree, Some(&target), Duration::from_secs(900))
             .map_err(|e| format!("stub {n}: the tests do not build: {e}"))?;
         let mut row = format!("checkpoint {n} stubbed:");
-        for m in 1..=n {
-            let run = binaries.run_filter(&tree, &format!("checkpoint{m}"), &[], Duration::from_secs(300));
-            row += &format!("  {m}: {}/{}", run.passed, run.passed + run.failed);
+        for (m, filter) in (1..=n).flat_map(|m| filters(m).into_iter().map(move |f| (m, f))) {
+            let run = binaries.run_filter(&tree, &filter, &[], Duration::from_secs(300));
+            row += &format!("  {filter}: {}/{}", run.passed, run.passed + run.failed);
             let ok = if m < n {
                 run.error.is_none() && run.failed == 0 && run.passed > 0
             } else {
@@ -40,7 +48,7 @@ pub fn stub_matrix() -> Result<(), String> {
             };
             if !ok {
                 problems.push(format!(
-                    "with checkpoint {n} stubbed, checkpoint {m}: {} passed, {} failed{}",
+                    "with checkpoint {n} stubbed, `{filter}`: {} passed, {} failed{}",
                     run.passed,
                     run.failed,
                     run.error.map(|e| format!(" ({e})")).unwrap_or_default()

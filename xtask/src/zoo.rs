@@ -16,7 +16,7 @@ pub fn zoo() -> Result<(), String> {
     let root = repository();
     let work = root.join("target/zoo");
     let (tree, target) = (work.join("tree"), work.join("target"));
-    let rubric = raylab_grade::rubric::Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let rubric = raylab_grade::rubric::Rubric::of_tree(root)?;
     let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
     check_patches(root, &variants)?;
     let mut rows = vec![

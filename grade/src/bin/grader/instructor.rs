@@ -34,6 +34,19 @@ pub enum Command {
         #[arg(long)]
         check: bool,
     },
+    /// Package the tree for a grading platform: `gradescope` writes Gradescope's autograder zip
+    /// (setup.sh, run_autograder, this tree with its hidden checks, the crates vendored).
+    Package {
+        /// The platform (only `gradescope` so far).
+        #[arg(value_parser = ["gradescope"])]
+        platform: String,
+        /// The zip to write.
+        #[arg(long, value_name = "FILE", default_value = "autograder.zip")]
+        out: PathBuf,
+        /// The repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+    },
     /// Write a copy of the tree with one variant of checkpoints/variants.toml applied.
     MakeVariant {
         /// The variant's name.
@@ -53,22 +66,32 @@ pub fn run(command: Command) -> Result<ExitCode, String> {
         Command::UpdateReferences { root } => update(&root),
         Command::Calibrate { root, table, check } => calibrate(&root, &table, check),
         Command::MakeVariant { name, out, root } => make_variant(&root, &name, &out),
+        Command::Package { platform: _, out, root } => package(&root, &out),
     }
 }
 
+fn package(root: &Path, out: &Path) -> Result<ExitCode, String> {
+    eprintln!("grader: packaging {} for Gradescope (cargo vendor may take a minute)", root.display());
+    raylab_grade::package::gradescope(root, &root.join("target/package/gradescope"), out)?;
+    let size = std::fs::metadata(out).map_err(|e| format!("{}: {e}", out.display()))?.len();
+    println!("{}: Gradescope autograder, {:.1} MB", out.display(), size as f64 / 1e6);
+    Ok(ExitCode::SUCCESS)
+}
+
 fn update(root: &Path) -> Result<ExitCode, String> {
-    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let rubric = Rubric::of_tree(root)?;
     let progress = progress_bar(rubric.scenes.len() as u64);
     let manifest = update_references(root, &rubric, &progress);
     progress.finish_and_clear();
-    for entry in manifest?.references {
-        println!("reference/{}.png: {} spp in {:.2} s", entry.name, entry.spp, entry.render_seconds);
+    for (entry, scene) in manifest?.references.iter().zip(&rubric.scenes) {
+        let image = raylab_grade::reference::image_path(Path::new(""), scene);
+        println!("{}: {} spp in {:.2} s", image.display(), entry.spp, entry.render_seconds);
     }
     Ok(ExitCode::SUCCESS)
 }
 
 fn calibrate(root: &Path, table: &Path, check: bool) -> Result<ExitCode, String> {
-    let rubric = Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let rubric = Rubric::of_tree(root)?;
     let progress = progress_bar(0);
     let runs = raylab_grade::calibrate::run_all(root, &progress);
     progress.finish_and_clear();

@@ -214,7 +214,18 @@ fn submission(
     let progress = progress_bar(0);
     let graded = raylab_grade::submission::grade_submission(root, dir, &work, &progress);
     progress.finish_and_clear();
-    let graded = graded?;
+    let graded = match (graded, json) {
+        (Ok(graded), _) => graded,
+        // A submission that cannot be graded at all still gets a results.json: zero, and why.
+        (Err(e), Some(path)) => {
+            let results =
+                serde_json::json!({"score": 0.0, "output": format!("Not graded: {e}"), "tests": []});
+            let text = serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?;
+            write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+            return Err(e);
+        }
+        (Err(e), None) => return Err(e),
+    };
     let text = raylab_grade::submission::text(&graded);
     print!("{text}");
     if let Some(path) = json {
@@ -245,7 +256,7 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> 
 }
 
 fn watch(root: &Path, from: u32) -> Result<ExitCode, String> {
-    let rubric = raylab_grade::rubric::Rubric::load(&root.join("checkpoints/rubric.toml"), root)?;
+    let rubric = raylab_grade::rubric::Rubric::of_tree(root)?;
     let last = rubric.checkpoints.iter().map(|c| c.id).max().unwrap_or(from);
     let check = |id: u32| {
         let options = GradeOptions { checkpoints: Some(vec![id]), ..GradeOptions::new(root) };

@@ -1,0 +1,178 @@
+//! Hostile submissions as fixtures (`grade/tests/hostile/NAME/`): `fixture.toml` says how to
+//! turn a copy of the reference solution into the submission (region bodies replaced, files
+//! written, deleted or copied, markers stripped), `expected.toml` what grading it must give
+//! (exact points per checkpoint, substrings of the report). Used by the hostile suite
+//! (`grade/tests/grader_hostile.rs`) and the Gradescope dry run (`cargo xtask
+//! gradescope-dry-run`), which must agree on every fixture.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::stub::{region_bodies, region_function, rust_files};
+use crate::variants::{copy_tree, NOT_COPIED};
+
+/// Where the fixtures live, relative to the repository.
+pub const HOSTILE: &str = "grade/tests/hostile";
+
+/// How to make the submission from a copy of the solution.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Fixture {
+    #[serde(default)]
+    region: Vec<RegionEdit>,
+    #[serde(default)]
+    write: Vec<WriteEdit>,
+    #[serde(default)]
+    delete: Vec<PathEdit>,
+    #[serde(default)]
+    copy: Vec<CopyEdit>,
+    #[serde(default)]
+    strip_markers: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RegionEdit {
+    file: PathBuf,
+    function: String,
+    body: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WriteEdit {
+    path: PathBuf,
+    text: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PathEdit {
+    path: PathBuf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CopyEdit {
+    from: PathBuf,
+    to: PathBuf,
+}
+
+/// What grading the submission must give.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Expected {
+    /// Substrings the report must contain.
+    pub output: Vec<String>,
+    /// Points per checkpoint, each judged on its own.
+    pub points: BTreeMap<u32, f64>,
+}
+
+/// The fixtures' names, sorted.
+pub fn names(root: &Path) -> Result<Vec<String>, String> {
+    let dir = root.join(HOSTILE);
+    let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut names: Vec<String> = entries
+        .filter_map(Result::ok)
+        .filter(|e| e.path().is_dir())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    Ok(names)
+}
+
+fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))
+}
+
+/// Writes fixture `name` of the tree at `root` into `dest` (replaced): a copy of the solution
+/// with the fixture's edits. Returns what grading it must give.
+pub fn make(root: &Path, name: &str, dest: &Path) -> Result<Expected, String> {
+    let folder = root.join(HOSTILE).join(name);
+    let fixture: Fixture = read_toml(&folder.join("fixture.toml"))?;
+    let expected: Expected = read_toml(&folder.join("expected.toml"))?;
+    if dest.exists() {
+        std::fs::remove_dir_all(dest).map_err(|e| format!("{}: {e}", dest.display()))?;
+    }
+    copy_tree(root, dest, &NOT_COPIED).map_err(|e| format!("copying {}: {e}", root.display()))?;
+    apply(&fixture, dest).map_err(|e| format!("fixture {name}: {e}"))?;
+    Ok(expected)
+}
+
+fn apply(fixture: &Fixture, dir: &Path) -> Result<(), String> {
+    let io = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
+    for edit in &fixture.region {
+        let path = dir.join(&edit.file);
+        let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
+        let range = (1..=9)
+            .flat_map(|n| region_bodies(&text, n))
+            .find(|r| region_function(&text, r.start) == edit.function)
+            .ok_or_else(|| format!("no region of {} in {}", edit.function, edit.file.display()))?;
+        let mut out = text.clone();
+        out.replace_range(range, edit.body.trim_start_matches('\n'));
+        std::fs::write(&path, out).map_err(|e| io(&path, e))?;
+    }
+    for edit in &fixture.write {
+        let path = dir.join(&edit.path);
+        std::fs::write(&path, &edit.text).map_err(|e| io(&path, e))?;
+    }
+    for edit in &fixture.delete {
+        let path = dir.join(&edit.path);
+        std::fs::remove_file(&path).map_err(|e| io(&path, e))?;
+    }
+    for edit in &fixture.copy {
+        let (from, to) = (dir.join(&edit.from), dir.join(&edit.to));
+        std::fs::copy(&from, &to).map_err(|e| io(&from, e))?;
+    }
+    if fixture.strip_markers {
+        for (path, text) in rust_files(&dir.join("src")).map_err(|e| io(dir, e))? {
+            let kept: String = text
+                .split_inclusive('\n')
+                .filter(|l| {
+                    !l.contains("// BEGIN SOLUTION") && !l.trim_start().starts_with("// END SOLUTION")
+                })
+                .collect();
+            std::fs::write(&path, kept).map_err(|e| io(&path, e))?;
+        }
+    }
+    Ok(())
+}
+
+/// The points per checkpoint of a Gradescope `results.json` (its tests are numbered `N.k`).
+pub fn points(results: &serde_json::Value) -> BTreeMap<u32, f64> {
+    let mut points: BTreeMap<u32, f64> = BTreeMap::new();
+    for test in results["tests"].as_array().into_iter().flatten() {
+        let number = test["number"].as_str().unwrap_or_default();
+        if let Some(checkpoint) = number.split('.').next().and_then(|n| n.parse().ok()) {
+            *points.entry(checkpoint).or_default() += test["score"].as_f64().unwrap_or(0.0);
+        }
+    }
+    points
+}
+
+impl Expected {
+    /// What `results` (Gradescope's `results.json`) gets wrong, one line each: points per
+    /// checkpoint to 0.01 (they are rounded so), and the report's substrings.
+    pub fn problems(&self, results: &serde_json::Value) -> Vec<String> {
+        let points = points(results);
+        let output = results["output"].as_str().unwrap_or_default();
+        let mut problems = Vec::new();
+        if self.points.len() != points.len() {
+            problems.push(format!(
+                "expected.toml must give every checkpoint's points; the grader gave {points:?}"
+            ));
+        }
+        for (checkpoint, want) in &self.points {
+            let got = points.get(checkpoint).copied().unwrap_or(0.0);
+            if (got - want).abs() > 0.011 {
+                problems.push(format!("checkpoint {checkpoint}: {got} points, expected {want}"));
+            }
+        }
+        problems
+            .extend(self.output.iter().filter(|s| !output.contains(s.as_str())).map(|s| format!("no {s:?}")));
+        problems
+    }
+}

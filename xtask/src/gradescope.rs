@@ -1,0 +1,117 @@
+//! `cargo xtask gradescope-dry-run`: Gradescope's life cycle, run here on a scratch root.
+//!
+//! Packages the tree (the code of `grader package gradescope`), unpacks the zip into
+//! `target/gradescope-dry-run/autograder/source`, runs `setup.sh` there with `AUTOGRADER_ROOT`
+//! pointing at the scratch root (cargo is already installed here, so it installs nothing), then
+//! `run_autograder` on four submissions, each unpacked as Gradescope would into
+//! `autograder/submission`: the solution (every point), the starter (checkpoint 1's points
+//! only), and the hostile fixtures `crashes` and `cheats` (exactly the points their
+//! `expected.toml` commits to). Prints the time of each step (docs/PERFORMANCE.md).
+
+use std::path::Path;
+use std::process::Command;
+use std::time::Instant;
+
+use raylab_grade::fixture;
+use raylab_grade::rubric::Rubric;
+use raylab_grade::variants::{copy_tree, NOT_COPIED};
+
+use crate::repository;
+
+/// What a submission's results.json must show.
+enum Want {
+    /// This total.
+    Total(f64),
+    /// A hostile fixture's expectations.
+    Fixture(fixture::Expected),
+}
+
+/// Packages, sets up and grades four submissions in a scratch Gradescope root.
+pub fn gradescope_dry_run() -> Result<(), String> {
+    let root = repository();
+    let work = root.join("target/gradescope-dry-run");
+    let autograder = work.join("autograder");
+    if work.exists() {
+        std::fs::remove_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
+    }
+    let zip = work.join("autograder.zip");
+    let started = Instant::now();
+    raylab_grade::package::gradescope(root, &work.join("package"), &zip)?;
+    println!("packaged {} in {:.0} s", zip.display(), started.elapsed().as_secs_f64());
+    let source = autograder.join("source");
+    run("unzip", Command::new("unzip").arg("-q").arg(&zip).arg("-d").arg(&source))?;
+
+    let started = Instant::now();
+    run("setup.sh", &mut gradescope_command(&autograder, "setup.sh"))?;
+    println!(
+        "setup.sh: {:.0} s (the grader built, the solution graded once)",
+        started.elapsed().as_secs_f64()
+    );
+
+    let total = Rubric::of_tree(root)?.total_points();
+    let starter_points = Rubric::of_tree(root)?.checkpoints[0].test_points;
+    let submission = autograder.join("submission");
+    let mut problems = Vec::new();
+    for name in ["solution", "starter", "crashes", "cheats"] {
+        if submission.exists() {
+            std::fs::remove_dir_all(&submission).map_err(|e| format!("{}: {e}", submission.display()))?;
+        }
+        let want = match name {
+            "solution" => {
+                copy_tree(root, &submission, &NOT_COPIED)
+                    .map_err(|e| format!("copying the solution: {e}"))?;
+                Want::Total(total)
+            }
+            // Uploaded as a zip of the repository's folder: the tree one level down.
+            "starter" => {
+                crate::starter::starter(&submission.join("raylab-starter"))?;
+                Want::Total(starter_points)
+            }
+            hostile => Want::Fixture(fixture::make(root, hostile, &submission)?),
+        };
+        let started = Instant::now();
+        run("run_autograder", &mut gradescope_command(&autograder, "run_autograder"))?;
+        let seconds = started.elapsed().as_secs_f64();
+        let path = autograder.join("results/results.json");
+        let text = std::fs::read_to_string(&path).map_err(|e| format!("{name}: {}: {e}", path.display()))?;
+        let results: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| format!("{name}: results.json: {e}"))?;
+        let score = results["score"].as_f64().unwrap_or(-1.0);
+        println!("run_autograder {name}: {score} points in {seconds:.0} s");
+        match want {
+            Want::Total(want) if (score - want).abs() > 0.011 => {
+                problems.push(format!("{name}: {score} points, expected {want}"))
+            }
+            Want::Total(_) => {}
+            Want::Fixture(expected) => {
+                problems.extend(expected.problems(&results).into_iter().map(|p| format!("{name}: {p}")))
+            }
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
+}
+
+/// One of Gradescope's scripts, run as Gradescope runs it but below `autograder`.
+fn gradescope_command(autograder: &Path, script: &str) -> Command {
+    let mut command = Command::new("bash");
+    command
+        .arg(autograder.join("source").join(script))
+        .current_dir(autograder.join("source"))
+        .env("AUTOGRADER_ROOT", autograder)
+        .env_remove("CARGO_TARGET_DIR")
+        .env_remove(raylab_grade::child::CHILD_ENV);
+    command
+}
+
+fn run(what: &str, command: &mut Command) -> Result<(), String> {
+    let status = command.status().map_err(|e| format!("cannot run {what}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("{what} failed ({status})"))
+    }
+}
