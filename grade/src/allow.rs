@@ -6,8 +6,8 @@
 //!   (the instructor's imports), with their associated items (`Vec3::new`, `NodeView::Leaf`);
 //! - `glam`, and of `std`/`core`/`alloc` the maths, collections and language modules
 //!   ([`STD_MODULES`]);
-//! - the renderer's student API, `crate::` paths into the modules the handouts name
-//!   ([`STUDENT_MODULES`]);
+//! - the renderer's student API: `crate::` paths into the modules the handouts name for the
+//!   region's checkpoint ([`student_modules`]);
 //! - the macros in [`MACROS`], whose arguments are parsed and checked too (`println!` and friends
 //!   print to nobody: no grade reads what a region prints).
 //!
@@ -64,9 +64,28 @@ pub const STD_MODULES: &[&str] = &[
     "vec",
 ];
 
-/// Modules of the renderer (`crate::...`) a region may name: the student API.
-pub const STUDENT_MODULES: &[&str] =
+/// Modules of the renderer (`crate::...`) a region of each checkpoint may name: the student API
+/// its handout works with. Geometry (2-4) needs the maths and the geometry types; glass (5) also
+/// the materials, the scene and the integrators; direct lighting (6) also the lights;
+/// anti-aliasing (7) the maths, the generator, sampling, the camera and the film. A checkpoint
+/// not listed (the extras) may name every module of the student API.
+pub const STUDENT_API: &[(u32, &[&str])] = &[
+    (2, &["math", "geometry"]),
+    (3, &["math", "geometry"]),
+    (4, &["math", "geometry"]),
+    (5, &["math", "geometry", "material", "integrator", "scene"]),
+    (6, &["math", "geometry", "material", "integrator", "scene", "light"]),
+    (7, &["math", "rng", "sampling", "camera", "film"]),
+];
+
+/// Every module of the student API.
+const ALL_STUDENT_MODULES: &[&str] =
     &["camera", "film", "geometry", "integrator", "light", "material", "math", "rng", "sampling", "scene"];
+
+/// The modules a region of `checkpoint` may name (see [`STUDENT_API`]).
+pub fn student_modules(checkpoint: u32) -> &'static [&'static str] {
+    STUDENT_API.iter().find(|(c, _)| *c == checkpoint).map_or(ALL_STUDENT_MODULES, |(_, m)| m)
+}
 
 /// The renderer's dependencies other than glam: reachable by name in its code, never from a region.
 pub const OTHER_CRATES: &[&str] = &["clap", "png", "rayon", "serde", "thiserror", "tobj", "toml", "raylab"];
@@ -137,12 +156,12 @@ pub struct Rejection {
     pub reason: String,
 }
 
-/// Checks a region body (the statements of a function body).
-pub fn check_region(body: &str) -> Result<(), Rejection> {
+/// Checks a region body (the statements of a function body) of `checkpoint`.
+pub fn check_region(body: &str, checkpoint: u32) -> Result<(), Rejection> {
     // The body is parsed as a block; "{\n" shifts every line by one.
     let block: syn::Block = syn::parse_str(&format!("{{\n{body}\n}}"))
         .map_err(|e| Rejection { line: line_of(e.span()), reason: format!("does not parse: {e}") })?;
-    let mut checker = Checker { found: None };
+    let mut checker = Checker { found: None, modules: student_modules(checkpoint), checkpoint };
     checker.visit_block(&block);
     checker.found.map_or(Ok(()), Err)
 }
@@ -153,6 +172,9 @@ fn line_of(span: Span) -> usize {
 
 struct Checker {
     found: Option<Rejection>,
+    /// The `crate::` modules this region may name.
+    modules: &'static [&'static str],
+    checkpoint: u32,
 }
 
 impl Checker {
@@ -178,7 +200,12 @@ impl Checker {
                 _ => format!("`{text}`: only maths, collections and language items of std may be used"),
             },
             "crate" => match second {
-                Some(m) if STUDENT_MODULES.contains(&m.as_str()) => return,
+                Some(m) if self.modules.contains(&m.as_str()) => return,
+                Some(m) if ALL_STUDENT_MODULES.contains(&m.as_str()) => format!(
+                    "`{text}`: checkpoint {} works with crate::{{{}}}, not `{m}`",
+                    self.checkpoint,
+                    self.modules.join(", ")
+                ),
                 _ => format!("`{text}`: not part of the student API"),
             },
             "self" | "super" if segments.len() > 1 => {
@@ -418,14 +445,15 @@ mod tests {
         for (_, text) in rust_files(&src).unwrap() {
             for checkpoint in 1..=9 {
                 for r in region_bodies(&text, checkpoint) {
-                    check_region(&text[r.clone()]).unwrap_or_else(|e| panic!("{e:?} in\n{}", &text[r]));
+                    check_region(&text[r.clone()], checkpoint)
+                        .unwrap_or_else(|e| panic!("{e:?} in\n{}", &text[r]));
                 }
             }
         }
     }
 
     fn rejected(body: &str) -> Rejection {
-        check_region(body).expect_err(body)
+        check_region(body, 6).expect_err(body)
     }
 
     #[test]
@@ -470,7 +498,7 @@ mod tests {
             "matches!(self.view(), NodeView::Leaf { .. })",
             "#[allow(clippy::needless_range_loop)]\nfor i in 0..3 { debug_assert!(i < 3, \"{i}\"); }",
         ] {
-            check_region(body).unwrap_or_else(|e| panic!("{body}: {e:?}"));
+            check_region(body, 4).unwrap_or_else(|e| panic!("{body}: {e:?}"));
         }
     }
 
@@ -485,7 +513,20 @@ mod tests {
 
     #[test]
     fn grader_lets_a_local_variable_share_a_harness_name() {
-        check_region("let load = 0.5f32;\nlet render = load * 2.0;\nrender").unwrap();
+        check_region("let load = 0.5f32;\nlet render = load * 2.0;\nrender", 2).unwrap();
+    }
+
+    /// Each checkpoint names the modules its handout works with: the triangle test reaches no
+    /// light, and anti-aliasing no geometry; every module is open to the extras.
+    #[test]
+    fn grader_allows_each_region_the_student_api_of_its_checkpoint() {
+        let light = "let i = crate::light::PointLight::intensity;";
+        assert!(check_region(light, 6).is_ok());
+        let reason = check_region(light, 2).unwrap_err().reason;
+        assert!(reason.contains("checkpoint 2 works with crate::{math, geometry}"), "{reason}");
+        assert!(check_region("let b = crate::geometry::Aabb::new;", 7).is_err());
+        assert!(check_region("let s = crate::sampling::estimate_pixel;", 7).is_ok());
+        assert!(check_region(light, 8).is_ok());
     }
 
     #[test]

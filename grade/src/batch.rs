@@ -2,7 +2,9 @@
 //! scratch tree and one build folder, so the dependencies compile once.
 //!
 //! A `DIR` that holds `src/` is one submission; any other `DIR` holds one submission per
-//! subfolder (a folder of folders, as Gradescope's and GitHub Classroom's downloads unpack). Each
+//! subfolder (a folder of folders, as Gradescope's and GitHub Classroom's downloads unpack). A
+//! `.zip` is unpacked first (into `OUT/.work/unpacked/`), wherever it appears: the download itself,
+//! or a student's upload inside it; a submission whose tree is one folder down is found there. Each
 //! submission gets `OUT/<name>/results.json` and `report.txt`; the class gets `OUT/grades.csv`
 //! (student, points per checkpoint, total, flags) and `OUT/index.html`: a histogram of the points
 //! per checkpoint and the failing tests most students share. A submission the grader cannot read
@@ -11,13 +13,14 @@
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
 use raylab::image_io::write_file_atomic;
 
+use crate::child::{run_limited, Limits};
 use crate::html::escape;
-use crate::report::gradescope_json;
-use crate::submission::{grade_submission, text, SubmissionReport};
+use crate::submission::{grade_submission, results_json, submission_root, text, SubmissionReport};
 
 /// One student's outcome.
 pub struct Row {
@@ -27,17 +30,22 @@ pub struct Row {
     pub graded: Result<SubmissionReport, String>,
 }
 
-/// The submissions named by `dirs` (see the module docs), sorted by name.
-pub fn submissions(dirs: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+/// The submissions named by `dirs` (see the module docs), sorted by name; zips are unpacked into
+/// `unpacked`.
+pub fn submissions(dirs: &[PathBuf], unpacked: &Path) -> Result<Vec<PathBuf>, String> {
     let mut found = Vec::new();
     for dir in dirs {
-        if dir.join("src").is_dir() {
+        let dir = &through_single_folders(&unzipped(dir, unpacked)?);
+        if submission_root(dir).join("src").is_dir() {
             found.push(dir.clone());
             continue;
         }
         let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        let mut inner: Vec<PathBuf> =
-            entries.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
+        let mut inner: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.is_dir() || is_zip(p))
+            .map(|p| unzipped(&p, unpacked))
+            .collect::<Result<_, _>>()?;
         inner.sort();
         found.extend(inner);
     }
@@ -45,6 +53,61 @@ pub fn submissions(dirs: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
         return Err("no submissions found".to_string());
     }
     Ok(found)
+}
+
+/// `dir`, or the folder below it where a zip's single top folder leads (`download/class/`).
+fn through_single_folders(dir: &Path) -> PathBuf {
+    let mut dir = dir.to_path_buf();
+    while !dir.join("src").is_dir() {
+        let entries: Vec<PathBuf> =
+            std::fs::read_dir(&dir).into_iter().flatten().filter_map(|e| e.ok().map(|e| e.path())).collect();
+        match entries.as_slice() {
+            [only] if only.is_dir() => dir = only.clone(),
+            _ => break,
+        }
+    }
+    dir
+}
+
+fn is_zip(path: &Path) -> bool {
+    path.is_file() && path.extension().is_some_and(|e| e.eq_ignore_ascii_case("zip"))
+}
+
+/// A zip unpacked into `unpacked/<its name>` (by `unzip`, in a child with the graded children's
+/// limits: a zip bomb fills no disk), or any other path as it is.
+fn unzipped(path: &Path, unpacked: &Path) -> Result<PathBuf, String> {
+    if !is_zip(path) {
+        return Ok(path.to_path_buf());
+    }
+    let name = path.file_stem().map_or_else(|| "submission".into(), |s| s.to_string_lossy().into_owned());
+    let dest = unpacked.join(&name);
+    if dest.exists() {
+        std::fs::remove_dir_all(&dest).map_err(|e| format!("{}: {e}", dest.display()))?;
+    }
+    std::fs::create_dir_all(&dest).map_err(|e| format!("{}: {e}", dest.display()))?;
+    let mut command = std::process::Command::new("unzip");
+    command.args(["-q", "-o"]).arg(path).arg("-d").arg(&dest);
+    let run = run_limited(command, UNZIP_TIME_LIMIT, Limits::GRADED)
+        .map_err(|e| format!("cannot run unzip for {}: {e}", path.display()))?;
+    if !run.success() {
+        return Err(format!("{}: cannot unpack: {}", path.display(), run.failure_reason(UNZIP_TIME_LIMIT)));
+    }
+    Ok(dest)
+}
+
+/// Unpacking one zip may take this long.
+const UNZIP_TIME_LIMIT: Duration = Duration::from_secs(120);
+
+/// "about 3 min left" after `done` of `total` submissions in `elapsed`.
+fn eta(done: usize, total: usize, elapsed: Duration) -> String {
+    if done == 0 {
+        return String::new();
+    }
+    let left = elapsed.as_secs_f64() / done as f64 * (total - done) as f64;
+    match left {
+        s if s < 90.0 => format!(", about {s:.0} s left"),
+        s => format!(", about {:.0} min left", s / 60.0),
+    }
 }
 
 /// Grades every submission in turn, writing each one's reports into `out` as it goes.
@@ -55,14 +118,15 @@ pub fn grade_all(
     progress: &ProgressBar,
 ) -> Result<Vec<Row>, String> {
     let work = out.join(".work");
-    let submissions = submissions(dirs)?;
+    let submissions = submissions(dirs, &work.join("unpacked"))?;
     progress.set_length(submissions.len() as u64);
+    let started = Instant::now();
     let mut rows = Vec::new();
-    for dir in submissions {
+    for (done, dir) in submissions.iter().enumerate() {
         let student =
             dir.file_name().map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into_owned());
-        progress.set_message(student.clone());
-        let graded = grade_submission(instructor, &dir, &work, &ProgressBar::hidden());
+        progress.set_message(format!("{student}{}", eta(done, submissions.len(), started.elapsed())));
+        let graded = grade_submission(instructor, dir, &work, &ProgressBar::hidden());
         let folder = out.join(&student);
         std::fs::create_dir_all(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
         let report = match &graded {
@@ -70,14 +134,8 @@ pub fn grade_all(
             Err(e) => format!("could not be graded: {e}\n"),
         };
         write(&folder.join("report.txt"), &report)?;
-        if let Ok(g) = &graded {
-            let mut results = gradescope_json(&g.isolated);
-            results["output"] = serde_json::Value::String(report);
-            write(
-                &folder.join("results.json"),
-                &serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?,
-            )?;
-        }
+        let results = serde_json::to_string_pretty(&results_json(&graded)).map_err(|e| e.to_string())?;
+        write(&folder.join("results.json"), &results)?;
         rows.push(Row { student, graded });
         progress.inc(1);
     }
@@ -197,18 +255,46 @@ pub fn class_page(rows: &[Row]) -> String {
 mod tests {
     use super::*;
 
+    fn zip(folder: &Path, what: &str, into: &Path) {
+        let status = std::process::Command::new("zip")
+            .current_dir(folder)
+            .args(["-q", "-r"])
+            .arg(into)
+            .arg(what)
+            .status();
+        assert!(status.unwrap().success());
+    }
+
+    /// Folders, folders of folders, zips of either, and zips inside a folder (a student's upload),
+    /// with the tree at the top or one folder down.
     #[test]
-    fn grader_finds_one_submission_or_a_folder_of_them() {
+    fn grader_finds_one_submission_or_a_folder_of_them_zipped_or_not() {
         let dir = std::env::temp_dir().join(format!("raylab-batch-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
-        for student in ["bob", "alice"] {
+        let unpacked = dir.join("unpacked");
+        for student in ["bob", "alice", "carol/raylab-main"] {
             std::fs::create_dir_all(dir.join("class").join(student).join("src")).unwrap();
         }
-        let class = submissions(&[dir.join("class")]).unwrap();
-        assert_eq!(class, vec![dir.join("class/alice"), dir.join("class/bob")], "one per subfolder, sorted");
-        assert_eq!(submissions(&[dir.join("class/bob")]).unwrap(), vec![dir.join("class/bob")]);
+        let class = submissions(&[dir.join("class")], &unpacked).unwrap();
+        let want = ["alice", "bob", "carol"].map(|s| dir.join("class").join(s));
+        assert_eq!(class, want, "one per subfolder, sorted");
+        assert_eq!(submission_root(&class[2]), dir.join("class/carol/raylab-main"));
+        assert_eq!(submissions(&[dir.join("class/bob")], &unpacked).unwrap(), vec![dir.join("class/bob")]);
         std::fs::create_dir_all(dir.join("empty")).unwrap();
-        assert!(submissions(&[dir.join("empty")]).is_err());
+        assert!(submissions(&[dir.join("empty")], &unpacked).is_err());
+
+        // The same class as one zip, and carol's upload as a zip inside the folder.
+        zip(&dir, "class", &dir.join("download.zip"));
+        let zipped = submissions(&[dir.join("download.zip")], &unpacked).unwrap();
+        assert_eq!(
+            zipped,
+            ["alice", "bob", "carol"].map(|s| unpacked.join("download/class").join(s)).to_vec()
+        );
+        zip(&dir.join("class/carol"), "raylab-main", &dir.join("class/carol.zip"));
+        std::fs::remove_dir_all(dir.join("class/carol")).unwrap();
+        let mixed = submissions(&[dir.join("class")], &unpacked).unwrap();
+        assert_eq!(mixed[2], unpacked.join("carol"));
+        assert!(submission_root(&mixed[2]).join("src").is_dir());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

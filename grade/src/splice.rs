@@ -168,7 +168,7 @@ pub fn read_submission(instructor: &Path, submission: &Path) -> Result<Submissio
                     region.checkpoint, region.function
                 )),
                 Some((_, body)) if is_stub(body, region.checkpoint) => Taken::NotStarted,
-                Some((_, body)) => match check_region(body) {
+                Some((_, body)) => match check_region(body, region.checkpoint) {
                     Ok(()) => Taken::Code(body.clone()),
                     Err(rejection) => {
                         let line = begin_line(&submission.join(&region.file), region).unwrap_or(0) + rejection.line;

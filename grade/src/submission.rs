@@ -15,6 +15,7 @@ use indicatif::ProgressBar;
 
 use crate::cargo::{error_place, BUILD_TIME_LIMIT};
 use crate::grading::{grade, CheckpointResult, GradeOptions, GradeReport, Phases};
+use crate::report::gradescope_json;
 use crate::rubric::Rubric;
 use crate::splice::{read_submission, write_spliced_tree, Submission, Taken, STUDENT_ENV};
 use crate::unit_tests::build_tests;
@@ -45,6 +46,7 @@ pub fn grade_submission(
     if !dir.is_dir() {
         return Err(format!("{}: not a folder", dir.display()));
     }
+    let dir = &submission_root(dir);
     let start = std::time::Instant::now();
     let mut submission = read_submission(instructor, dir)?;
     let tree = work.join("tree");
@@ -106,6 +108,37 @@ pub fn grade_submission(
         phases,
     };
     Ok(SubmissionReport { isolated, cumulative, submission, splice_seconds, phases })
+}
+
+/// The folder of a submission that holds its tree: `dir` if it holds `src/`, else the one folder
+/// inside it that does (an upload of the repository's folder, as a zip or from GitHub).
+pub fn submission_root(dir: &Path) -> PathBuf {
+    if dir.join("src").is_dir() {
+        return dir.to_path_buf();
+    }
+    let inner: Vec<PathBuf> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.join("src").is_dir())
+        .collect();
+    match inner.as_slice() {
+        [only] => only.clone(),
+        _ => dir.to_path_buf(),
+    }
+}
+
+/// Gradescope's `results.json` for a submission: the grade (each checkpoint on its own) with the
+/// whole report as its output; for a submission that could not be graded, 0 and why.
+pub fn results_json(graded: &Result<SubmissionReport, String>) -> serde_json::Value {
+    match graded {
+        Ok(g) => {
+            let mut results = gradescope_json(&g.isolated);
+            results["output"] = serde_json::Value::String(text(g));
+            results
+        }
+        Err(e) => serde_json::json!({"score": 0.0, "output": format!("Not graded: {e}"), "tests": []}),
+    }
 }
 
 /// The report a person reads: per checkpoint the grade and the whole renderer's points, why

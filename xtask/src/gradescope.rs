@@ -39,6 +39,7 @@ pub fn gradescope_dry_run() -> Result<(), String> {
     raylab_grade::package::gradescope(root, &work.join("package"), &zip)?;
     println!("packaged {} in {:.0} s", zip.display(), started.elapsed().as_secs_f64());
     let source = autograder.join("source");
+    std::fs::create_dir_all(&source).map_err(|e| format!("{}: {e}", source.display()))?;
     run("unzip", Command::new("unzip").arg("-q").arg(&zip).arg("-d").arg(&source))?;
 
     let started = Instant::now();

@@ -214,26 +214,14 @@ fn submission(
     let progress = progress_bar(0);
     let graded = raylab_grade::submission::grade_submission(root, dir, &work, &progress);
     progress.finish_and_clear();
-    let graded = match (graded, json) {
-        (Ok(graded), _) => graded,
-        // A submission that cannot be graded at all still gets a results.json: zero, and why.
-        (Err(e), Some(path)) => {
-            let results =
-                serde_json::json!({"score": 0.0, "output": format!("Not graded: {e}"), "tests": []});
-            let text = serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?;
-            write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
-            return Err(e);
-        }
-        (Err(e), None) => return Err(e),
-    };
-    let text = raylab_grade::submission::text(&graded);
-    print!("{text}");
+    // Written whatever happened: a submission that cannot be graded gets 0 and why.
     if let Some(path) = json {
-        let mut results = report::gradescope_json(&graded.isolated);
-        results["output"] = serde_json::Value::String(text);
-        let results = serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?;
-        write_file_atomic(path, results.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+        let results = raylab_grade::submission::results_json(&graded);
+        let text = serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?;
+        write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
     }
+    let graded = graded?;
+    print!("{}", raylab_grade::submission::text(&graded));
     Ok(if graded.isolated.all_passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
