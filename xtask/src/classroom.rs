@@ -18,7 +18,7 @@ pub fn workflow(rubric: &Rubric) -> String {
         "# Written by `cargo xtask starter` from checkpoints/rubric.toml: feedback on every push.
 # The points here are the unit tests' share; your instructor grades the submission itself.
 name: Autograding
-"on":
+\"on\":
   - push
   - workflow_dispatch
 permissions:
