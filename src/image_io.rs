@@ -1,9 +1,14 @@
-//! From linear radiance to an 8-bit sRGB PNG on disk, and back.
+//! From linear radiance to an 8-bit sRGB PNG on disk, and back; and the linear radiance itself as
+//! a Portable Float Map, for the statistics of noisy renders.
 //!
 //! Output is: clamp to `[0, 1]`, apply the sRGB transfer function, round to 8 bits. The transfer
 //! function is `12.92 c` for `c ≤ 0.0031308`, else `1.055 c^(1/2.4) − 0.055` (IEC 61966-2-1).
 //! Files are written to a temporary name beside the target and renamed into place, so a failed
 //! or interrupted write never leaves half an image over a good one.
+//!
+//! A PFM file is the header `PF\n<width> <height>\n-1.0\n` (colour; the negative scale means
+//! little-endian) followed by `width · height` RGB triples of 32-bit floats, rows from the
+//! *bottom* of the image up. It keeps every value exactly, beyond 1 and below 1/255.
 
 use std::io::{BufReader, Write};
 use std::path::{Path, PathBuf};
@@ -140,6 +145,79 @@ pub fn write_film(path: &Path, film: &Film) -> Result<(), ImageError> {
     write_png(path, &film_to_rgb8(film))
 }
 
+/// Writes the film's linear values as a little-endian colour PFM, atomically.
+pub fn write_pfm(path: &Path, film: &Film) -> Result<(), ImageError> {
+    let (width, height) = (film.width(), film.height());
+    let mut bytes = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
+    for y in (0..height).rev() {
+        for x in 0..width {
+            bytes.extend(film.get(x, y).to_array().iter().flat_map(|c| c.to_le_bytes()));
+        }
+    }
+    write_file_atomic(path, &bytes)
+        .map_err(|e| ImageError::Write { path: path.to_path_buf(), message: e.to_string() })
+}
+
+/// Reads a colour PFM (either byte order) into a film.
+pub fn read_pfm(path: &Path) -> Result<Film, ImageError> {
+    let fail = |message: &str| ImageError::Read { path: path.to_path_buf(), message: message.to_string() };
+    let bytes = std::fs::read(path).map_err(|e| fail(&e.to_string()))?;
+    // Three header fields, each ended by one whitespace byte.
+    let mut fields = Vec::new();
+    let mut start = 0;
+    for (i, &b) in bytes.iter().enumerate().take(256) {
+        if b.is_ascii_whitespace() {
+            if i > start {
+                fields
+                    .push(std::str::from_utf8(&bytes[start..i]).map_err(|_| fail("the header is not text"))?);
+            }
+            start = i + 1;
+            if fields.len() == 4 {
+                break;
+            }
+        }
+    }
+    let [magic, width, height, scale] = fields[..] else { return Err(fail("the header is incomplete")) };
+    if magic != "PF" {
+        return Err(fail("not a colour PFM (it must start with PF)"));
+    }
+    let number = |field: &str| field.parse::<u32>().ok().filter(|&n| n > 0);
+    let (Some(width), Some(height)) = (number(width), number(height)) else {
+        return Err(fail("the width and height must be positive whole numbers"));
+    };
+    let little = match scale.parse::<f32>() {
+        Ok(s) if s < 0.0 => true,
+        Ok(s) if s > 0.0 => false,
+        _ => return Err(fail("the scale must be a non-zero number")),
+    };
+    let data = &bytes[start..];
+    let expected = width as usize * height as usize * 12;
+    if data.len() != expected {
+        return Err(fail(&format!(
+            "{width}x{height} needs {expected} bytes of pixels, the file has {}",
+            data.len()
+        )));
+    }
+    let value = |chunk: &[u8]| {
+        let word = [chunk[0], chunk[1], chunk[2], chunk[3]];
+        if little {
+            f32::from_le_bytes(word)
+        } else {
+            f32::from_be_bytes(word)
+        }
+    };
+    let mut film = Film::new(width, height);
+    for (i, pixel) in data.chunks_exact(12).enumerate() {
+        let (x, row) = (i as u32 % width, i as u32 / width);
+        film.set(
+            x,
+            height - 1 - row,
+            Vec3::new(value(&pixel[0..4]), value(&pixel[4..8]), value(&pixel[8..12])),
+        );
+    }
+    Ok(film)
+}
+
 #[cfg(test)]
 mod checkpoint1 {
     use super::*;
@@ -181,6 +259,29 @@ mod checkpoint1 {
         }
         let leftovers = std::fs::read_dir(&dir).unwrap().count();
         assert_eq!(leftovers, 1, "no temporary file is left behind");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Every value survives exactly, above 1 and below an 8-bit step included, with the rows in
+    /// the right order; a file of the wrong size or kind is refused, naming the file.
+    #[test]
+    fn a_film_round_trips_through_a_pfm_file_bit_for_bit() {
+        let dir = std::env::temp_dir().join(format!("raylab-pfm-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("film.pfm");
+        let pixels = (0..15).map(|i| Vec3::new(i as f32 * 3.7, 1e-6 * i as f32, -0.5 + i as f32)).collect();
+        let film = Film::from_pixels(5, 3, pixels);
+        write_pfm(&path, &film).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert!(bytes.starts_with(b"PF\n5 3\n-1.0\n"));
+        // The first pixel stored is the bottom row's first.
+        assert_eq!(&bytes[12..16], &film.get(0, 2).x.to_le_bytes());
+        assert_eq!(read_pfm(&path).unwrap().pixels(), film.pixels());
+        std::fs::write(&path, &bytes[..bytes.len() - 1]).unwrap();
+        let err = read_pfm(&path).unwrap_err().to_string();
+        assert!(err.contains("film.pfm") && err.contains("needs 180 bytes"), "{err}");
+        std::fs::write(&path, b"P6\n5 3\n255\n").unwrap();
+        assert!(read_pfm(&path).unwrap_err().to_string().contains("not a colour PFM"));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

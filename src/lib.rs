@@ -14,7 +14,8 @@
 //!
 //! Every task's code sits between `// BEGIN SOLUTION checkpointN` and `// END SOLUTION`; the
 //! student starter replaces it with `todo!()`. The conventions all checkpoints share (ray ranges,
-//! `wo`/`wi`, normals, `eta`) are in [`math`].
+//! `wo`/`wi`, normals, `eta`) are in [`math`]. [`stats`] holds the statistical tests that judge
+//! Monte Carlo estimates (t and chi-square tails, Welch's test).
 //!
 //! # The pipeline
 //!
@@ -38,6 +39,7 @@ pub mod render;
 pub mod rng;
 pub mod sampling;
 pub mod scene;
+pub mod stats;
 
 #[cfg(test)]
 mod test_fixtures;

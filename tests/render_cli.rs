@@ -41,6 +41,22 @@ fn render_cli_writes_a_png_of_the_scene_size() {
     assert!(image.data.chunks_exact(3).any(|p| p[0] > 100), "the sphere is visible");
 }
 
+/// `--pfm` keeps the linear values: encoded to sRGB, they give the PNG's bytes exactly.
+#[test]
+fn render_cli_writes_the_linear_film_beside_the_png_when_asked() {
+    let dir = scratch("pfm");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, scene_text(("", ""))).unwrap();
+    let (png, pfm) = (dir.join("out.png"), dir.join("out.pfm"));
+    let out = render(&[scene.to_str().unwrap(), "-o", png.to_str().unwrap(), "--pfm", pfm.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr_of(&out));
+    let film = raylab::image_io::read_pfm(&pfm).unwrap();
+    assert_eq!(raylab::image_io::film_to_rgb8(&film), raylab::image_io::read_png(&png).unwrap());
+    let wrong = render(&[scene.to_str().unwrap(), "-o", png.to_str().unwrap(), "--pfm", "out.exr"]);
+    assert_eq!(wrong.status.code(), Some(2));
+    assert!(stderr_of(&wrong).contains("out.exr: --pfm must name a .pfm file"), "{}", stderr_of(&wrong));
+}
+
 /// Each broken scene: (what is replaced, by what, the line the error must name, a word of it).
 const BROKEN: &[(&str, &str, usize, &str)] = &[
     ("fov = 40", "fov = 40 40", 5, "camera"),

@@ -1,4 +1,5 @@
-//! `render SCENE.toml -o OUT.png`: render a scene to an sRGB PNG.
+//! `render SCENE.toml -o OUT.png [--pfm OUT.pfm]`: render a scene to an sRGB PNG, and its linear
+//! values to a PFM if asked (the grader's statistics of noisy renders read those).
 //!
 //! While a checkpoint is still the starter's `todo!()`, `render` draws with a stand-in and says
 //! so in one line (`raylab::fallback`); `--no-fallbacks` (what the grader runs) does not.
@@ -37,6 +38,9 @@ struct Args {
     /// Worker threads (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     threads: Option<u32>,
+    /// Also write the linear radiance, unclamped, as a PFM file.
+    #[arg(long, value_name = "FILE")]
+    pfm: Option<PathBuf>,
     /// Fail on a checkpoint that is still `todo!()` instead of drawing with a stand-in.
     #[arg(long)]
     no_fallbacks: bool,
@@ -83,6 +87,9 @@ fn run(args: Args) -> Result<(), (u8, String)> {
     if args.output.extension().and_then(|e| e.to_str()) != Some("png") {
         return Err(bad_input(format!("{}: the output must be a .png file", args.output.display())));
     }
+    if let Some(pfm) = args.pfm.as_ref().filter(|p| p.extension().and_then(|e| e.to_str()) != Some("pfm")) {
+        return Err(bad_input(format!("{}: --pfm must name a .pfm file", pfm.display())));
+    }
     let scene = Scene::load(&args.scene).map_err(|e| bad_input(e.to_string()))?;
     let mut settings = scene.settings;
     settings.spp = args.spp.unwrap_or(settings.spp);
@@ -121,6 +128,9 @@ fn run(args: Args) -> Result<(), (u8, String)> {
     };
     progress.finish();
     raylab::image_io::write_film(&args.output, &film).map_err(|e| bad_input(e.to_string()))?;
+    if let Some(pfm) = &args.pfm {
+        raylab::image_io::write_pfm(pfm, &film).map_err(|e| bad_input(e.to_string()))?;
+    }
     eprintln!(
         "render: wrote {} ({}x{}, {spp} spp) in {:.2} s",
         args.output.display(),
