@@ -16,6 +16,7 @@ pub mod heatmap;
 pub mod html;
 pub mod images;
 pub mod metrics;
+pub mod noisy;
 pub mod package;
 pub mod reference;
 pub mod report;
