@@ -11,7 +11,7 @@
 //! | 2 (triangle) | none: nothing can be seen without it |
 //! | 3 (box), 4 (BVH) | every triangle is tested for every ray (no BVH, no boxes); slow |
 //! | 5 (glass, intersection test) | the first surface shaded by its normal; glass is not followed |
-//! | 6 (direct lighting) | checkpoint 5's shading, or the normal if 5 is not written either |
+//! | 6 (direct lighting), 8 (area lights) | checkpoint 5's shading, or the normal if 5 is not written either |
 //! | 7 (anti-aliasing) | one ray through each pixel centre |
 //!
 //! Nothing here is ever graded: the grader renders with `render --no-fallbacks`, where a stub
@@ -64,7 +64,7 @@ impl Fallbacks {
                 self.shading = Some(Shading::Normals);
                 Some("shading the first surface by its normal; glass is not followed")
             }
-            6 if self.shading.is_none() => {
+            6 | 8 if self.shading.is_none() => {
                 self.shading = Some(Shading::IntersectionTest);
                 Some("shading as checkpoint 5 does, without lights")
             }

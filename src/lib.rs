@@ -11,6 +11,7 @@
 //! | 5 | glass (Snell's law) and the intersection-test integrator | `src/material.rs`, `src/integrator/intersection_test.rs` | `cargo test checkpoint5` |
 //! | 6 | direct lighting: Lambertian BRDF, point lights, shadows | `src/integrator/direct_lighting.rs` | `cargo test checkpoint6` |
 //! | 7 | anti-aliasing: jittered samples per pixel | `src/sampling.rs`: [`sampling::estimate_pixel`] | `cargo test checkpoint7` |
+//! | 8 (extra) | area lights, Monte Carlo direct lighting | `src/light/area.rs`, `src/light/choice.rs`, `src/integrator/monte_carlo_direct.rs` | `cargo test checkpoint8` |
 //!
 //! Every task's code sits between `// BEGIN SOLUTION checkpointN` and `// END SOLUTION`; the
 //! student starter replaces it with `todo!()`. The conventions all checkpoints share (ray ranges,

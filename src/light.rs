@@ -1,36 +1,10 @@
-//! Point lights.
-//!
-//! A scene gives a point light's *flux* Φ, the power it emits in all directions (RGB, watts). An
-//! isotropic point source spreads it over the full sphere of 4π steradians, so its *intensity*
-//! (power per solid angle) is `I = Φ / (4π)`. This file is the one place that conversion is made;
-//! everything else asks [`PointLight::intensity`]. At distance `r`, on a surface turned `θ` away
-//! from the light, the irradiance is `E = I cos θ / r²` (see checkpoint 6).
+//! Lights: point lights (checkpoint 6) and area lights, emitting surfaces (checkpoint 8); and the
+//! choice of one light among all of a scene's, in proportion to its power (checkpoint 8).
 
-use crate::math::Vec3;
+mod area;
+mod choice;
+mod point;
 
-/// An isotropic point light.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PointLight {
-    /// Where the light is.
-    pub position: Vec3,
-    /// Total emitted power Φ per colour channel (watts).
-    pub flux: Vec3,
-}
-
-impl PointLight {
-    /// Radiant intensity `I = Φ / (4π)` (watts per steradian).
-    pub fn intensity(&self) -> Vec3 {
-        self.flux / (4.0 * std::f32::consts::PI)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn intensity_is_flux_over_the_full_sphere() {
-        let light = PointLight { position: Vec3::ZERO, flux: Vec3::splat(4.0 * std::f32::consts::PI) };
-        assert_eq!(light.intensity(), Vec3::ONE);
-    }
-}
+pub use area::{AreaLight, LightSample};
+pub use choice::{choose_light, light_powers, Light};
+pub use point::PointLight;

@@ -4,8 +4,10 @@
 //! draws its random numbers from its own generator, seeded from (scene seed, pixel index), so
 //! the image is the same bit for bit whatever the thread count or the order tiles finish in.
 //!
-//! With one sample per pixel the ray goes through the pixel centre and no random number is
-//! drawn; more samples go through [`estimate_pixel`] (checkpoint 7).
+//! With one sample per pixel the ray goes through the pixel centre and no film position is drawn;
+//! more samples go through [`estimate_pixel`] (checkpoint 7). Monte Carlo integrators draw their
+//! numbers (light samples, bounces) from a second generator of the pixel, [`Rng::for_paths`], so
+//! the film positions are the same whichever integrator renders.
 
 use rayon::prelude::*;
 
@@ -44,11 +46,12 @@ pub fn render_with(
             let pixels: Vec<Vec3> = (corner.y..end.y)
                 .flat_map(|y| (corner.x..end.x).map(move |x| UVec2::new(x, y)))
                 .map(|pixel| {
-                    let radiance = |film: Vec2| integrator.li(world, camera.ray(film));
+                    let index = pixel.y as u64 * width as u64 + pixel.x as u64;
+                    let mut paths = Rng::for_paths(settings.seed, index);
+                    let mut radiance = |film: Vec2| integrator.li(world, camera.ray(film), &mut paths);
                     if settings.spp == 1 {
                         radiance(pixel.as_vec2() + 0.5)
                     } else {
-                        let index = pixel.y as u64 * width as u64 + pixel.x as u64;
                         let mut rng = Rng::for_pixel(settings.seed, index);
                         estimate_pixel(pixel, settings.spp, &mut rng, radiance)
                     }

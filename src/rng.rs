@@ -14,6 +14,9 @@ pub struct Rng {
 
 const MULTIPLIER: u64 = 6_364_136_223_846_793_005;
 
+/// Streams of path generators: pixel indices (below 2⁶²) with the top stream bit set.
+const PATH_STREAMS: u64 = 1 << 62;
+
 impl Rng {
     /// A generator for `seed` on stream `stream`; distinct streams give unrelated sequences.
     pub fn new(seed: u64, stream: u64) -> Self {
@@ -27,6 +30,12 @@ impl Rng {
     /// The generator of one pixel: the scene's seed on the pixel's own stream.
     pub fn for_pixel(seed: u64, pixel_index: u64) -> Self {
         Self::new(seed, pixel_index)
+    }
+
+    /// The generator of one pixel's paths (light samples, bounces): the pixel's own stream in
+    /// the upper half of the stream space, so it never repeats the pixel's film positions.
+    pub fn for_paths(seed: u64, pixel_index: u64) -> Self {
+        Self::new(seed, pixel_index | PATH_STREAMS)
     }
 
     /// The next 32 uniformly distributed bits.

@@ -200,19 +200,29 @@ impl std::ops::AddAssign for Phases {
 }
 
 impl GradeReport {
-    /// Points earned.
+    /// Points earned, the extras' not included.
     pub fn score(&self) -> f64 {
-        self.checkpoints.iter().map(CheckpointResult::score).sum()
+        self.counted(false).map(CheckpointResult::score).sum()
     }
 
-    /// Points available.
+    /// Points available, the extras' not included.
     pub fn max_score(&self) -> f64 {
-        self.checkpoints.iter().map(|c| c.max_score(self.tests_ran)).sum()
+        self.counted(false).map(|c| c.max_score(self.tests_ran)).sum()
     }
 
-    /// Whether every check and test passed.
+    /// The extras' points earned and available, reported beside the total.
+    pub fn extra_score(&self) -> (f64, f64) {
+        self.counted(true).fold((0.0, 0.0), |(s, m), c| (s + c.score(), m + c.max_score(self.tests_ran)))
+    }
+
+    /// The checkpoints that are extras (`true`) or that count (`false`).
+    fn counted(&self, extra: bool) -> impl Iterator<Item = &CheckpointResult> {
+        self.checkpoints.iter().filter(move |c| c.checkpoint.extra == extra)
+    }
+
+    /// Whether every check and test passed, the extras' included.
     pub fn all_passed(&self) -> bool {
-        (self.score() - self.max_score()).abs() < 1e-9
+        self.checkpoints.iter().all(|c| (c.score() - c.max_score(self.tests_ran)).abs() < 1e-9)
     }
 }
 
@@ -616,7 +626,7 @@ mod tests {
     fn runs(failing: impl Fn(u32) -> bool) -> TestRuns {
         let run =
             |id| TestRun { passed: 5 - failing(id) as u32, failed: failing(id) as u32, ..TestRun::default() };
-        TestRuns { public: (1..=7).map(|id| (id, run(id))).collect(), hidden: BTreeMap::new() }
+        TestRuns { public: (1..=8).map(|id| (id, run(id))).collect(), hidden: BTreeMap::new() }
     }
 
     fn scored(
@@ -649,14 +659,14 @@ mod tests {
         }
     }
 
-    /// Checkpoint 2 written, 3 to 7 still the starter's: checkpoint 2 keeps its image points,
+    /// Checkpoint 2 written, 3 to 8 still the starter's: checkpoint 2 keeps its image points,
     /// and the later ones are "not started", with their handout.
     #[test]
     fn grader_gives_a_correct_checkpoint_its_points_when_later_ones_are_not_started() {
         let rubric = rubric();
         let tests = runs(|id| id > 2);
         let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
-        let results = scored(&rubric, &tests, &[3, 4, 5, 6, 7], &scenes);
+        let results = scored(&rubric, &tests, &[3, 4, 5, 6, 7, 8], &scenes);
         assert_eq!(results[1].score(), results[1].max_score(true));
         for c in &results[2..] {
             assert!(c.advice.as_deref().is_some_and(|a| a.starts_with("Not started")), "{:?}", c.advice);

@@ -23,7 +23,13 @@ pub fn page(report: &GradeReport) -> String {
     let mut h = String::new();
     let _ = write!(h, "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>raylab grade: {:.1} / {:.0}</title><style>{STYLE}</style></head><body>\n",
         report.score(), report.max_score());
-    let _ = writeln!(h, "<h1>raylab: {:.1} / {:.0} points</h1>", report.score(), report.max_score());
+    let _ = writeln!(
+        h,
+        "<h1>raylab: {:.1} / {:.0} points{}</h1>",
+        report.score(),
+        report.max_score(),
+        escape(&crate::report::extra_text(report))
+    );
     let _ = writeln!(h, "<table class=\"checkpoints\"><tr><th>#</th><th>checkpoint</th><th>tests</th><th>images</th><th>points</th><th>why points were lost</th></tr>");
     for c in &report.checkpoints {
         let (tests, images) = (c.tests_cell(), c.images_cell());

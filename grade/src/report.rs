@@ -65,13 +65,24 @@ pub fn text(report: &GradeReport) -> String {
     }
     let _ = writeln!(
         out,
-        "\ntotal: {:.1} / {:.0} points in {:.1} s{}",
+        "\ntotal: {:.1} / {:.0} points{} in {:.1} s{}",
         report.score(),
         report.max_score(),
+        extra_text(report),
         report.seconds,
         if report.tests_ran { "" } else { " (images only: unit tests not run)" }
     );
     out
+}
+
+/// `" (+ 7.5 / 10 extra, not counted)"`, or nothing without extras.
+pub fn extra_text(report: &GradeReport) -> String {
+    let (score, max) = report.extra_score();
+    if max > 0.0 {
+        format!(" (+ {score:.1} / {max:.0} extra, not counted)")
+    } else {
+        String::new()
+    }
 }
 
 /// Gradescope's `results.json`: `score`, `execution_time`, `output`, and one test entry per
@@ -94,13 +105,14 @@ pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
             }));
         };
         let hidden = c.checkpoint.hidden.as_ref();
+        let extra = if c.checkpoint.extra { " (extra, not counted)" } else { "" };
         let with_hidden =
             |points: f64| if points > 0.0 { format!(" ({points} of them hidden)") } else { String::new() };
         if report.tests_ran && c.checkpoint.all_test_points() > 0.0 {
             let hidden = with_hidden(hidden.map_or(0.0, |h| h.test_points));
             part(
                 &format!("{id}.1"),
-                format!("Checkpoint {id}: {}: unit tests{hidden}", c.checkpoint.title),
+                format!("Checkpoint {id}: {}: unit tests{hidden}{extra}", c.checkpoint.title),
                 c.test_score,
                 c.checkpoint.all_test_points(),
             );
@@ -109,7 +121,7 @@ pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
             let hidden = with_hidden(hidden.map_or(0.0, |h| h.image_points));
             part(
                 &format!("{id}.2"),
-                format!("Checkpoint {id}: {}: images{hidden}", c.checkpoint.title),
+                format!("Checkpoint {id}: {}: images{hidden}{extra}", c.checkpoint.title),
                 c.image_score,
                 c.checkpoint.all_image_points(),
             );

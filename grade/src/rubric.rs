@@ -48,6 +48,10 @@ pub struct Checkpoint {
     pub hint: String,
     /// The handout, relative to the repository root.
     pub handout: PathBuf,
+    /// An extra (the global-illumination checkpoints): graded and reported like the others, but
+    /// its points are not in the total. Set it to `false` to count them.
+    #[serde(default)]
+    pub extra: bool,
     /// The instructor's hidden checks of this checkpoint, if any (from `hidden/rubric.toml`).
     #[serde(skip)]
     pub hidden: Option<HiddenChecks>,
@@ -322,8 +326,8 @@ impl Rubric {
         Ok(())
     }
 
-    /// Total points available, hidden ones included.
+    /// Total points counted, hidden ones included, the extras' not.
     pub fn total_points(&self) -> f64 {
-        self.checkpoints.iter().map(|c| c.all_test_points() + c.all_image_points()).sum()
+        self.checkpoints.iter().filter(|c| !c.extra).map(|c| c.all_test_points() + c.all_image_points()).sum()
     }
 }

@@ -174,9 +174,10 @@ pub fn text(report: &SubmissionReport) -> String {
     }
     let _ = writeln!(
         out,
-        "\ntotal: {:.1} / {:.0} points (whole renderer: {:.1}) in {:.1} s (splice {:.1}, build {:.1}, tests {:.1}, renders {:.1})",
+        "\ntotal: {:.1} / {:.0} points{} (whole renderer: {:.1}) in {:.1} s (splice {:.1}, build {:.1}, tests {:.1}, renders {:.1})",
         report.isolated.score(),
         report.isolated.max_score(),
+        crate::report::extra_text(&report.isolated),
         report.cumulative.score(),
         report.isolated.seconds,
         report.splice_seconds,

@@ -66,6 +66,11 @@ impl Triangle {
         (self.p1 - self.p0).cross(self.p2 - self.p0).normalize()
     }
 
+    /// The area, `|(p1 − p0) × (p2 − p0)| / 2`.
+    pub fn area(&self) -> f32 {
+        0.5 * (self.p1 - self.p0).cross(self.p2 - self.p0).length()
+    }
+
     /// The point with barycentric coordinates `(1 − b1 − b2, b1, b2)`.
     pub fn point(&self, b1: f32, b2: f32) -> Vec3 {
         (1.0 - b1 - b2) * self.p0 + b1 * self.p1 + b2 * self.p2

@@ -6,12 +6,15 @@
 
 mod direct_lighting;
 mod intersection_test;
+mod monte_carlo_direct;
 
 pub use direct_lighting::{direct_from_point_light, DirectLightingIntegrator};
 pub use intersection_test::{trace_to_diffuse, DiffuseHit, IntersectionTestIntegrator};
+pub use monte_carlo_direct::{sample_direct, MonteCarloDirectIntegrator};
 
 use crate::fallback::normal_colour;
 use crate::math::{Ray, Vec3};
+use crate::rng::Rng;
 use crate::scene::{IntegratorKind, RenderSettings, World};
 
 /// The integrator a scene asked for.
@@ -21,6 +24,8 @@ pub enum Integrator {
     IntersectionTest(IntersectionTestIntegrator),
     /// Checkpoint 6.
     DirectLighting(DirectLightingIntegrator),
+    /// Checkpoint 8.
+    MonteCarloDirect(MonteCarloDirectIntegrator),
     /// The first surface's normal as a colour: `render`'s stand-in while checkpoint 5 is
     /// unwritten ([`crate::fallback`]); never graded.
     Normals,
@@ -35,14 +40,19 @@ impl Integrator {
                 Self::IntersectionTest(IntersectionTestIntegrator { max_depth })
             }
             IntegratorKind::DirectLighting => Self::DirectLighting(DirectLightingIntegrator { max_depth }),
+            IntegratorKind::MonteCarloDirect => {
+                Self::MonteCarloDirect(MonteCarloDirectIntegrator { max_depth })
+            }
         }
     }
 
-    /// Radiance arriving at the ray's origin from along `ray` (linear RGB).
-    pub fn li(&self, world: &World, ray: Ray) -> Vec3 {
+    /// Radiance arriving at the ray's origin from along `ray` (linear RGB); Monte Carlo
+    /// integrators draw their random numbers from `rng`, the others none.
+    pub fn li(&self, world: &World, ray: Ray, rng: &mut Rng) -> Vec3 {
         match self {
             Self::IntersectionTest(i) => i.li(world, ray),
             Self::DirectLighting(i) => i.li(world, ray),
+            Self::MonteCarloDirect(i) => i.li(world, ray, rng),
             Self::Normals => normal_colour(world, ray),
         }
     }

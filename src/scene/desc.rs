@@ -85,6 +85,9 @@ pub enum IntegratorKind {
     IntersectionTest,
     /// Checkpoint 6: point lights, Lambertian shading, shadows.
     DirectLighting,
+    /// Checkpoint 8: direct light from point and area lights, estimated by sampling them; the
+    /// camera sees emitting surfaces.
+    MonteCarloDirect,
 }
 
 /// One `[materials.NAME]` table. Which fields a kind needs is checked in `load.rs` (a plain
@@ -145,6 +148,10 @@ pub struct ObjectDesc {
     /// Scale per axis, non-zero (negative mirrors).
     #[serde(default = "unit_scale", deserialize_with = "scale")]
     pub scale: Vec3,
+    /// Radiance the object emits from the front of each triangle (the side its normal points
+    /// to), per channel in W / (m² sr), finite and not negative: the object is an area light.
+    #[serde(default, deserialize_with = "radiance")]
+    pub emission: Option<Vec3>,
 }
 
 /// The shapes an object can have.
@@ -212,6 +219,10 @@ fn albedo<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vec3>, D::Error> {
 fn flux<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
     let ok = |v: &[f32; 3]| v.iter().all(|x| x.is_finite() && *x >= 0.0);
     checked(d, ok, "expected three finite numbers, none negative").map(Vec3::from)
+}
+
+fn radiance<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vec3>, D::Error> {
+    flux(d).map(Some)
 }
 
 fn scale<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {

@@ -12,8 +12,9 @@ use super::error::{DisplayPath, SceneError, SourceMap};
 use super::{RenderSettings, Scene};
 use crate::camera::Camera;
 use crate::geometry::{transform_matrix, TriangleMesh};
-use crate::light::PointLight;
+use crate::light::{AreaLight, PointLight};
 use crate::material::Material;
+use crate::math::Vec3;
 
 /// Icosphere subdivisions when a sphere gives none: 1280 triangles, smooth at 512 px.
 const DEFAULT_SUBDIVISIONS: u32 = 3;
@@ -63,6 +64,9 @@ impl Scene {
             triangle_objects: Vec::new(),
             materials,
             lights,
+            area_lights: Vec::new(),
+            object_emission: Vec::new(),
+            light_powers: Vec::new(),
         };
         for (index, object) in desc.objects.iter().enumerate() {
             let material = *names.get(object.material.get_ref().as_str()).ok_or_else(|| {
@@ -77,10 +81,18 @@ impl Scene {
             let mesh = object_mesh(object, &map)?;
             let m = transform_matrix(object.translate, object.rotate, object.scale);
             let placed = mesh.transformed(&m);
+            let first = scene.triangles.len();
             scene.triangles.extend(placed.triangles());
             scene.triangle_materials.resize(scene.triangles.len(), material);
             scene.triangle_objects.resize(scene.triangles.len(), index as u32);
+            let emission = object.emission.unwrap_or(Vec3::ZERO);
+            scene.object_emission.push(emission);
+            if emission != Vec3::ZERO {
+                let triangles = scene.triangles[first..].to_vec();
+                scene.area_lights.push(AreaLight::new(index as u32, triangles, emission));
+            }
         }
+        scene.update_light_powers();
         Ok(scene)
     }
 }

@@ -15,8 +15,9 @@ pub use world::{SurfaceHit, World};
 
 use crate::camera::Camera;
 use crate::geometry::Triangle;
-use crate::light::PointLight;
+use crate::light::{light_powers, AreaLight, Light, PointLight};
 use crate::material::Material;
+use crate::math::Vec3;
 
 /// How a scene asks to be rendered (each can be overridden on the command line).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,4 +49,30 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// The point lights.
     pub lights: Vec<PointLight>,
+    /// The emitting objects, in scene order.
+    pub area_lights: Vec<AreaLight>,
+    /// `object_emission[k]`: the radiance object `k` emits from its front (zero for most).
+    pub object_emission: Vec<Vec3>,
+    /// Every light's scalar power, in [`Scene::light`]'s order (for choosing one, checkpoint 8).
+    pub light_powers: Vec<f32>,
+}
+
+impl Scene {
+    /// How many lights there are, point and area.
+    pub fn light_count(&self) -> usize {
+        self.lights.len() + self.area_lights.len()
+    }
+
+    /// Light `index`: the point lights first, then the area lights, each in scene order.
+    pub fn light(&self, index: usize) -> Light<'_> {
+        match index.checked_sub(self.lights.len()) {
+            None => Light::Point(&self.lights[index]),
+            Some(area) => Light::Area(&self.area_lights[area]),
+        }
+    }
+
+    /// Recomputes [`Scene::light_powers`] after the lights changed.
+    pub fn update_light_powers(&mut self) {
+        self.light_powers = light_powers((0..self.light_count()).map(|i| self.light(i)));
+    }
 }

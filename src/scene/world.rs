@@ -34,6 +34,20 @@ pub struct SurfaceHit<'a> {
     pub material: &'a Material,
     /// Index of the scene object hit (its `[[objects]]` entry).
     pub object: u32,
+    /// The radiance the object emits from its front side (zero unless it is an area light).
+    pub emission: Vec3,
+}
+
+impl SurfaceHit<'_> {
+    /// The radiance leaving the surface toward `wo` by emission: the object's emission seen from
+    /// its front (the side the normal points to), nothing from behind.
+    pub fn emitted(&self, wo: Vec3) -> Vec3 {
+        if self.normal.dot(wo) > 0.0 {
+            self.emission
+        } else {
+            Vec3::ZERO
+        }
+    }
 }
 
 impl<'a> World<'a> {
@@ -60,12 +74,14 @@ impl<'a> World<'a> {
         }?;
         let triangle = &self.scene.triangles[hit.prim as usize];
         let material = self.scene.triangle_materials[hit.prim as usize];
+        let object = self.scene.triangle_objects[hit.prim as usize];
         Some(SurfaceHit {
             t: hit.hit.t,
             p: triangle.point(hit.hit.b1, hit.hit.b2),
             normal: triangle.normal(),
             material: &self.scene.materials[material as usize],
-            object: self.scene.triangle_objects[hit.prim as usize],
+            object,
+            emission: self.scene.object_emission[object as usize],
         })
     }
 

@@ -51,7 +51,7 @@ enum Command {
 }
 
 /// Every checkpoint that has solution regions or tests.
-const CHECKPOINTS: [u32; 7] = [1, 2, 3, 4, 5, 6, 7];
+const CHECKPOINTS: [u32; 8] = [1, 2, 3, 4, 5, 6, 7, 8];
 
 fn main() -> ExitCode {
     let result = match Cli::parse().command {

@@ -7,7 +7,7 @@ use raylab_grade::rubric::Rubric;
 use raylab_grade::unit_tests::build_tests;
 use raylab_grade::variants::{make_scratch_tree, Variant};
 
-use crate::repository;
+use crate::{repository, CHECKPOINTS};
 
 /// Builds each single-checkpoint stub in a scratch tree (one shared target folder) and runs the
 /// test filters of that checkpoint and the ones before it.
@@ -23,7 +23,7 @@ pub fn stub_matrix() -> Result<(), String> {
         checkpoint.map(|c| c.test_filter.clone()).into_iter().chain(hidden).collect::<Vec<_>>()
     };
     let mut problems = Vec::new();
-    for n in 2..=7 {
+    for n in CHECKPOINTS.into_iter().skip(1) {
         let variant = Variant {
             name: format!("stub_{n}"),
             checkpoint: n,
