@@ -17,10 +17,9 @@ use crate::film::Film;
 use crate::math::Vec3;
 
 /// Errors reading or writing images; each names the file.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug)]
 pub enum ImageError {
     /// Writing failed.
-    #[error("{}: cannot write the image: {message}", path.display())]
     Write {
         /// The file.
         path: PathBuf,
@@ -28,7 +27,6 @@ pub enum ImageError {
         message: String,
     },
     /// Reading or decoding failed.
-    #[error("{}: cannot read the image: {message}", path.display())]
     Read {
         /// The file.
         path: PathBuf,
@@ -36,6 +34,19 @@ pub enum ImageError {
         message: String,
     },
 }
+
+impl std::fmt::Display for ImageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Write { path, message } => {
+                write!(f, "{}: cannot write the image: {message}", path.display())
+            }
+            Self::Read { path, message } => write!(f, "{}: cannot read the image: {message}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for ImageError {}
 
 /// The sRGB encoding of a linear value in `[0, 1]`.
 pub fn linear_to_srgb(c: f32) -> f32 {

@@ -5,10 +5,9 @@ use std::ops::Range;
 use std::path::PathBuf;
 
 /// What went wrong loading a scene.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug)]
 pub enum SceneError {
     /// The scene file could not be read.
-    #[error("{path}: cannot read the scene: {source}")]
     Read {
         /// The scene file.
         path: DisplayPath,
@@ -16,7 +15,6 @@ pub enum SceneError {
         source: std::io::Error,
     },
     /// Something in the scene file is wrong.
-    #[error("{location}: {field}: {message}")]
     Invalid {
         /// Where: `file:line:column`.
         location: Location,
@@ -25,6 +23,26 @@ pub enum SceneError {
         /// What is wrong with it.
         message: String,
     },
+}
+
+// Written out rather than derived (thiserror): one proc-macro crate fewer in a student's
+// first build.
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Read { path, source } => write!(f, "{path}: cannot read the scene: {source}"),
+            Self::Invalid { location, field, message } => write!(f, "{location}: {field}: {message}"),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Read { source, .. } => Some(source),
+            Self::Invalid { .. } => None,
+        }
+    }
 }
 
 /// A path shown as the user typed it.
