@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use crate::rubric::read_toml;
 use crate::stub::{region_bodies, region_function, rust_files};
 use crate::variants::{copy_tree, NOT_COPIED};
 
@@ -81,11 +82,6 @@ pub fn names(root: &Path) -> Result<Vec<String>, String> {
         .collect();
     names.sort();
     Ok(names)
-}
-
-fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))
 }
 
 /// Writes fixture `name` of the tree at `root` into `dest` (replaced): a copy of the solution
