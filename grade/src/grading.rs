@@ -27,9 +27,12 @@ use crate::child::{run_limited, Limits, CHILD_ENV};
 use crate::features::Masks;
 use crate::images::read_png;
 use crate::metrics::{Comparison, Measured};
-use crate::reference::{load_reference, Manifest};
+use crate::noisy::{compare, graded_seed, summarise, tile_means, tile_origin, NoisyReference, NoisyVerdict};
+use crate::reference::{load_reference, load_tile_reference, Manifest};
 use crate::report::hint_text;
-use crate::rubric::{Check, Checkpoint, GradedScene, Rubric};
+use crate::rubric::{Check, Checkpoint, GradedScene, Metric, Rubric, TileTest};
+use raylab::film::Film;
+use raylab::image_io::read_pfm;
 use crate::ssim::SsimMap;
 use crate::stub::stubbed_checkpoints;
 use crate::unit_tests::{build_tests, TestRun};
@@ -100,6 +103,8 @@ pub struct SceneResult {
     pub reference: RgbImage,
     /// Per-pixel SSIM of render against reference, if both exist.
     pub ssim: Option<SsimMap>,
+    /// The tile test's verdict, for a scene graded by one.
+    pub tiles: Option<NoisyVerdict>,
 }
 
 impl SceneResult {
@@ -297,7 +302,7 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         let entry = manifest.fresh_entry(root, &scene)?;
         let limit =
             TIME_LIMIT_FLOOR.max(Duration::from_secs_f64(TIME_LIMIT_FACTOR * entry.graded_render_seconds));
-        scene_results.push(grade_scene(options, renderer.as_deref(), scene, limit)?);
+        scene_results.push(grade_scene(options, renderer.as_deref(), scene, limit, progress)?);
         progress.inc(1);
     }
     phases.renders = rendering.elapsed().as_secs_f64();
@@ -368,52 +373,104 @@ fn run_unit_tests(
     runs
 }
 
-/// Renders one scene with the tree's `renderer` in a child process and scores it.
+/// How the graded children render: the tree's renderer binary, the tree, the environment and
+/// the time limit of one render.
+struct Child<'a> {
+    renderer: &'a Path,
+    code: PathBuf,
+    options: &'a GradeOptions,
+    limit: Duration,
+}
+
+impl Child<'_> {
+    /// Renders `scene` at its graded spp with `seed` in a child process: the PNG it writes, and
+    /// the linear film if `pfm`; with the seconds it took.
+    fn render(&self, scene: &GradedScene, seed: u64, pfm: bool) -> Result<(Rendered, f64), String> {
+        let stem = std::env::temp_dir().join(format!("raylab-grader-{}-{}", std::process::id(), scene.name));
+        let (png, film) = (stem.with_extension("png"), stem.with_extension("pfm"));
+        let mut command = Command::new(self.renderer);
+        command
+            .current_dir(std::env::temp_dir())
+            .env(CHILD_ENV, "1")
+            .envs(self.options.env.iter().map(|(k, v)| (k, v)))
+            .arg(self.code.join(&scene.file))
+            .arg("--output")
+            .arg(&png)
+            .arg("--spp")
+            .arg(scene.spp.to_string())
+            .arg("--seed")
+            .arg(seed.to_string())
+            // Stand-ins are never graded: a stub fails the scene.
+            .arg("--no-fallbacks");
+        if pfm {
+            command.arg("--pfm").arg(&film);
+        }
+        let run = run_limited(command, self.limit, Limits::GRADED)
+            .map_err(|e| format!("cannot start {}: {e}", self.renderer.display()))?;
+        let rendered = if !run.success() {
+            Err(run.failure_reason(self.limit))
+        } else if !png.exists() || (pfm && !film.exists()) {
+            Err("the renderer exited without writing an image".to_string())
+        } else {
+            let image = read_png(&png).map_err(|e| e.to_string());
+            let linear = if pfm { read_pfm(&film).map(Some).map_err(|e| e.to_string()) } else { Ok(None) };
+            image.and_then(|image| Ok(Rendered { image, film: linear? }))
+        };
+        let _ = std::fs::remove_file(&png);
+        let _ = std::fs::remove_file(&film);
+        Ok((rendered?, run.seconds))
+    }
+}
+
+/// What one graded render wrote.
+struct Rendered {
+    image: RgbImage,
+    film: Option<Film>,
+}
+
+/// Renders one scene with the tree's `renderer` in child processes and scores it.
 fn grade_scene(
     options: &GradeOptions,
     renderer: Result<&Path, &String>,
     scene: GradedScene,
     limit: Duration,
+    progress: &ProgressBar,
 ) -> Result<SceneResult, String> {
     let (reference, masks) = load_reference(&options.root, &scene)?;
+    let tiles = match &scene.tile_test {
+        Some(test) => Some(load_tile_reference(&options.root, &scene, test)?),
+        None => None,
+    };
     // Absolute: the renderer runs in a scratch folder, not in the tree.
     let code = options.code.as_deref().unwrap_or(&options.root);
     let code = std::path::absolute(code).map_err(|e| format!("{}: {e}", code.display()))?;
-    let out = std::env::temp_dir().join(format!("raylab-grader-{}-{}.png", std::process::id(), scene.name));
-    let seed = options.seed.unwrap_or(scene.seed);
-    let (rendered, seconds) = match renderer {
-        Ok(renderer) => {
-            let mut command = Command::new(renderer);
-            command
-                .current_dir(std::env::temp_dir())
-                .env(CHILD_ENV, "1")
-                .envs(options.env.iter().map(|(k, v)| (k, v)))
-                .arg(code.join(&scene.file))
-                .arg("--output")
-                .arg(&out)
-                .arg("--spp")
-                .arg(scene.spp.to_string())
-                .arg("--seed")
-                .arg(seed.to_string())
-                // Stand-ins are never graded: a stub fails the scene.
-                .arg("--no-fallbacks");
-            let run = run_limited(command, limit, Limits::GRADED)
-                .map_err(|e| format!("cannot start {}: {e}", renderer.display()))?;
-            let rendered = if run.success() && !out.exists() {
-                Err("the renderer exited without writing an image".to_string())
-            } else if run.success() {
-                read_png(&out).map_err(|e| e.to_string())
-            } else {
-                Err(run.failure_reason(limit))
-            };
-            (rendered, run.seconds)
-        }
-        Err(e) => (Err(e.to_string()), 0.0),
+    let mut result = SceneResult {
+        scene: scene.clone(),
+        checks: Vec::new(),
+        error: None,
+        seconds: 0.0,
+        render: None,
+        reference,
+        ssim: None,
+        tiles: None,
     };
-    let _ = std::fs::remove_file(&out);
-    let mut result =
-        SceneResult { scene, checks: Vec::new(), error: None, seconds, render: None, reference, ssim: None };
-    match rendered.and_then(|render| score(&result.scene, render, &result.reference, &masks)) {
+    let renderer = match renderer {
+        Ok(renderer) => renderer,
+        Err(e) => {
+            result.error = Some(e.clone());
+            return Ok(result);
+        }
+    };
+    let child = Child { renderer, code, options, limit };
+    let base = options.seed.unwrap_or(scene.seed);
+    let scored = match (&scene.tile_test, &tiles) {
+        (Some(test), Some(tiles)) => tile_test(&child, &mut result, test, tiles, base, progress),
+        _ => child.render(&scene, base, false).and_then(|(rendered, seconds)| {
+            result.seconds = seconds;
+            score(&scene, rendered.image, &result.reference, &masks)
+        }),
+    };
+    match scored {
         Ok((render, checks, ssim)) => {
             result.render = Some(render);
             result.checks = checks;
@@ -435,6 +492,45 @@ fn score(
     let comparison = Comparison::new(&render, reference, masks)?;
     let checks = scene.checks.iter().map(|c| (c.clone(), comparison.measure(c))).collect();
     let ssim = comparison.ssim().clone();
+    Ok((render, checks, ssim))
+}
+
+/// The tile test of a noisy scene ([`crate::noisy`]): `test.renders` renders with the seeds
+/// [`graded_seed`] of `base`, their tile means against the reference's; the first render is the
+/// one shown, with its SSIM against the reference image as a diagnostic.
+fn tile_test(
+    child: &Child,
+    result: &mut SceneResult,
+    test: &TileTest,
+    tiles: &NoisyReference,
+    base: u64,
+    progress: &ProgressBar,
+) -> Result<Scored, String> {
+    let scene = &result.scene;
+    let mut means = Vec::new();
+    let mut shown = None;
+    for k in 0..test.renders {
+        progress.set_message(format!("rendering {} ({} of {})", scene.name, k + 1, test.renders));
+        let (rendered, seconds) = child
+            .render(scene, graded_seed(base, k), true)
+            .map_err(|e| format!("render {} of {}: {e}", k + 1, test.renders))?;
+        result.seconds += seconds;
+        let film = rendered.film.expect("asked for the film");
+        let (w, h) = result.reference.dimensions();
+        if (film.width(), film.height()) != (w, h) {
+            return Err(format!("the render is {}x{}, the reference {w}x{h}", film.width(), film.height()));
+        }
+        means.push(tile_means(&film, test.tile));
+        shown.get_or_insert(rendered.image);
+    }
+    let verdict = compare(&summarise(&means), tiles, test.alpha);
+    let render = shown.ok_or("no render")?;
+    let ssim = SsimMap::new(&render, &result.reference).map_err(|e| format!("{e} (render vs reference)"))?;
+    let checks = vec![
+        (Check::tile_test(test), Measured { value: verdict.failures.len() as f64, passed: verdict.passed() }),
+        (Check::diagnostic(Metric::Ssim), Measured { value: ssim.mean(), passed: true }),
+    ];
+    result.tiles = Some(verdict);
     Ok((render, checks, ssim))
 }
 
@@ -592,7 +688,21 @@ fn failed_checks(s: &SceneResult) -> String {
         .checks
         .iter()
         .filter(|(_, m)| !m.passed)
-        .map(|(c, m)| format!("{}: got {:.4}, needs {}", c.label(), m.value, c.threshold_text()))
+        .map(|(c, m)| match (&s.tiles, c.metric) {
+            (Some(v), Metric::TileTest) => {
+                let tile = s.scene.tile_test.as_ref().map_or(1, |t| t.tile);
+                let (x, y) = tile_origin(v.failures[0].tile, tile, s.reference.width());
+                format!(
+                    "tile test: {} of {} tiles differ from the reference beyond their noise; the first, at pixels ({x}, {y}) to ({}, {}): {}",
+                    v.failures.len(),
+                    v.tile_p.len(),
+                    x + tile - 1,
+                    y + tile - 1,
+                    v.failures[0].reason
+                )
+            }
+            _ => format!("{}: got {:.4}, needs {}", c.label(), m.value, c.threshold_text()),
+        })
         .collect();
     failed.join(", ")
 }
@@ -619,6 +729,7 @@ mod tests {
             render: None,
             reference: RgbImage::new(1, 1),
             ssim: None,
+            tiles: None,
         }
     }
 

@@ -8,7 +8,9 @@ use base64::Engine;
 use image::RgbImage;
 
 use crate::grading::{GradeReport, SceneResult};
-use crate::heatmap::heatmap;
+use crate::noisy::{tile_origin, NoisyVerdict};
+use crate::rubric::TileTest;
+use crate::heatmap::{heatmap, tile_map};
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background:#fafafa;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\
@@ -60,7 +62,14 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         figure(h, "reference", Some(&s.reference));
         figure(h, "yours", s.render.as_ref());
         let diff = s.ssim.as_ref().map(|ssim| heatmap(ssim, &s.reference));
-        figure(h, "difference (1 − SSIM: black same, yellow very different)", diff.as_ref());
+        match (&s.tiles, &s.scene.tile_test) {
+            (Some(verdict), Some(test)) => {
+                let map = tile_map(verdict, test.tile, &s.reference);
+                figure(h, "tile test: red tiles differ beyond noise; amber nears the limit", Some(&map));
+                figure(h, "1 − SSIM (a diagnostic only: noise differs too)", diff.as_ref());
+            }
+            _ => figure(h, "difference (1 − SSIM: black same, yellow very different)", diff.as_ref()),
+        }
         h.push_str("</div>\n");
     }
     if let Some(e) = &s.error {
@@ -80,6 +89,9 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         );
     }
     h.push_str("</table>\n");
+    if let (Some(verdict), Some(test)) = (&s.tiles, &s.scene.tile_test) {
+        tile_failures(h, verdict, test, s.reference.width());
+    }
     for c in
         report.checkpoints.iter().filter(|c| !s.passed() && s.scene.depends_on.contains(&c.checkpoint.id))
     {
@@ -88,6 +100,32 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         }
     }
     h.push_str("</section>\n");
+}
+
+/// The first failing tiles of a tile test, where they are and why.
+fn tile_failures(h: &mut String, verdict: &NoisyVerdict, test: &TileTest, width: u32) {
+    const SHOWN: usize = 8;
+    let _ = write!(
+        h,
+        "<p>{} renders, {} tiles of {2}×{2} pixels, each test at level {3:.1e} (a correct render fails somewhere with probability {4}); {5} tiles failed.</p>",
+        test.renders,
+        verdict.tile_p.len(),
+        test.tile,
+        verdict.level,
+        test.alpha,
+        verdict.failures.len()
+    );
+    if !verdict.failures.is_empty() {
+        h.push_str("<ul>");
+        for f in verdict.failures.iter().take(SHOWN) {
+            let (x, y) = tile_origin(f.tile, test.tile, width);
+            let _ = write!(h, "<li>tile at pixel ({x}, {y}): {}</li>", escape(&f.reason));
+        }
+        if verdict.failures.len() > SHOWN {
+            let _ = write!(h, "<li>and {} more</li>", verdict.failures.len() - SHOWN);
+        }
+        h.push_str("</ul>\n");
+    }
 }
 
 fn figure(h: &mut String, caption: &str, image: Option<&RgbImage>) {
@@ -136,6 +174,7 @@ mod tests {
                 render: Some(image.clone()),
                 reference: image,
                 ssim: Some(ssim),
+                tiles: None,
             }
         };
         let report = |hidden: bool| GradeReport {

@@ -48,7 +48,7 @@ impl<'a> Comparison<'a> {
                 self.ssim.mean_where(|x, y| self.masks.contains(mask, x as u32, y as u32)).unwrap_or(f64::NAN)
             }
             (Metric::MaskRmse, Some(mask)) => self.linear_rmse(mask),
-            (Metric::MaskSsim | Metric::MaskRmse, None) => f64::NAN,
+            (Metric::MaskSsim | Metric::MaskRmse, None) | (Metric::TileTest, _) => f64::NAN,
         };
         let passed = match (check.min, check.max) {
             (Some(min), _) => value >= min,

@@ -15,9 +15,34 @@
 //! pdf can be unbiased and still useless). All tests of an image form one family with the
 //! family-wise error rate `alpha` fixed in advance: each is run at Šidák's level, so a correct
 //! submission fails anywhere in the image with probability `alpha`. See [`raylab::stats`].
+//! A tile whose numbers are not finite (NaN or infinite radiance) fails, whatever its p-values.
+//!
+//! **The seeds** are fixed in advance and never shared between the three kinds of render, so the
+//! graded renders are independent of the reference's: see [`graded_seed`], [`expected_seed`],
+//! [`solution_seed`].
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
 
 use raylab::film::Film;
 use raylab::stats::{f_upper, sidak, welch, Summary};
+
+/// The seed of the graded code's `k`-th render of a scene whose seed is `base` (the rubric's, or
+/// one calibration tries): `base · 2¹⁶ + k`, so that different bases never share a render.
+pub fn graded_seed(base: u64, k: u32) -> u64 {
+    (base << 16) | k as u64
+}
+
+/// The seed of the reference solution's `r`-th high-spp render: far above every graded seed.
+pub fn expected_seed(r: u32) -> u64 {
+    (1 << 40) | r as u64
+}
+
+/// The seed of the reference solution's `s`-th render at the graded spp.
+pub fn solution_seed(s: u32) -> u64 {
+    (1 << 41) | s as u64
+}
 
 /// The tile means of one render: per tile (row-major, tiles of `tile × tile` pixels, the last
 /// row and column of tiles cut at the image's edge) the mean of each channel.
@@ -35,6 +60,12 @@ pub fn tile_means(film: &Film, tile: u32) -> Vec<[f64; 3]> {
         }
     }
     sums.into_iter().map(|(sum, count)| sum.map(|s| s / count as f64)).collect()
+}
+
+/// The top-left pixel of tile `index` (row-major) of an image `width` pixels wide.
+pub fn tile_origin(index: usize, tile: u32, width: u32) -> (u32, u32) {
+    let tiles_x = width.div_ceil(tile) as usize;
+    ((index % tiles_x) as u32 * tile, (index / tiles_x) as u32 * tile)
 }
 
 /// Per tile and channel, the summary of the tile means of several renders.
@@ -70,6 +101,8 @@ pub struct NoisyVerdict {
     pub level: f64,
     /// The smallest p-value of any test.
     pub min_p: f64,
+    /// Per tile, the smallest p-value of its tests (0 for numbers that are not finite).
+    pub tile_p: Vec<f64>,
 }
 
 impl NoisyVerdict {
@@ -87,12 +120,18 @@ pub fn compare(submission: &[[Summary; 3]], reference: &NoisyReference, alpha: f
     // Two tests per tile and channel.
     let level = sidak(alpha, submission.len() * 3 * 2);
     let mut failures = Vec::new();
-    let mut min_p: f64 = 1.0;
+    let mut tile_p = Vec::with_capacity(submission.len());
     for (tile, ((got, want), solution)) in
         submission.iter().zip(&reference.expected).zip(&reference.solution).enumerate()
     {
         let mut first: Option<String> = None;
+        let mut p_tile: f64 = 1.0;
         for c in 0..3 {
+            if !(got[c].mean.is_finite() && got[c].variance.is_finite()) {
+                first.get_or_insert_with(|| format!("{} radiance is not finite ({})", CHANNELS[c], got[c].mean));
+                p_tile = 0.0;
+                continue;
+            }
             let means = welch(&got[c], &want[c]);
             let (d1, d2) = (got[c].n - 1.0, solution[c].n - 1.0);
             // A solution tile without noise (all black, say) leaves the mean test to judge.
@@ -101,7 +140,7 @@ pub fn compare(submission: &[[Summary; 3]], reference: &NoisyReference, alpha: f
             } else {
                 1.0
             };
-            min_p = min_p.min(means.p).min(spread);
+            p_tile = p_tile.min(means.p).min(spread);
             if first.is_none() && means.p < level {
                 first = Some(format!(
                     "{} mean {:.4} vs {:.4} expected (p = {:.1e})",
@@ -115,11 +154,50 @@ pub fn compare(submission: &[[Summary; 3]], reference: &NoisyReference, alpha: f
                 ));
             }
         }
+        tile_p.push(p_tile);
         if let Some(reason) = first {
             failures.push(TileFailure { tile, reason });
         }
     }
-    NoisyVerdict { failures, level, min_p }
+    let min_p = tile_p.iter().copied().fold(1.0, f64::min);
+    NoisyVerdict { failures, level, min_p, tile_p }
+}
+
+/// The reference solution's tile means, as `grader update-references` writes them beside the
+/// reference image (`reference/<scene>.tiles.json`): every render's, so the file says exactly
+/// what the summaries were computed from.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TileFile {
+    /// Side of the tiles, in pixels.
+    pub tile: u32,
+    /// Samples per pixel of the `expected` renders...
+    pub reference_spp: u32,
+    /// ...and of the `solution` renders (the graded spp).
+    pub spp: u32,
+    /// Per high-spp render (seeds [`expected_seed`] 0, 1, ...), its tile means.
+    pub expected: Vec<Vec<[f64; 3]>>,
+    /// Per render at the graded spp (seeds [`solution_seed`] 0, 1, ...), its tile means.
+    pub solution: Vec<Vec<[f64; 3]>>,
+}
+
+impl TileFile {
+    /// The summaries the test compares with.
+    pub fn reference(&self) -> NoisyReference {
+        NoisyReference { expected: summarise(&self.expected), solution: summarise(&self.solution) }
+    }
+
+    /// Reads the file; errors name it.
+    pub fn read(path: &Path) -> Result<TileFile, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Writes the file (to a temporary name, then renamed).
+    pub fn write(&self, path: &Path) -> Result<(), String> {
+        let text = serde_json::to_string(self).map_err(|e| e.to_string())?;
+        raylab::image_io::write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+    }
 }
 
 #[cfg(test)]
@@ -212,5 +290,35 @@ mod tests {
         }
         assert!(biased >= 48 && noisy >= 48, "biased {biased}/50, noisy {noisy}/50");
         assert!(elsewhere <= 3, "{elsewhere} failures outside the biased tile");
+    }
+
+    /// A render with NaN or infinite pixels fails in those tiles: NaN compares false with every
+    /// level, so without its own rule a NaN tile would pass.
+    #[test]
+    fn tiles_with_nan_or_infinite_radiance_fail() {
+        let mut rng = Rng::new(93, 0);
+        let reference = reference(&mut rng);
+        for bad in [f32::NAN, f32::INFINITY] {
+            let renders: Vec<Vec<[f64; 3]>> = (0..8)
+                .map(|_| {
+                    let mut film = render(&mut rng, 0.05, 1.0, 1.0);
+                    film.set(20, 3, Vec3::new(0.5, bad, 0.5));
+                    tile_means(&film, 16)
+                })
+                .collect();
+            let verdict = compare(&summarise(&renders), &reference, 0.01);
+            assert_eq!(verdict.failures.len(), 1, "{bad}: {:?}", verdict.failures);
+            assert_eq!((verdict.failures[0].tile, verdict.tile_p[1]), (1, 0.0));
+        }
+    }
+
+    /// The graded, expected and solution seeds never meet, for any base a rubric or calibration
+    /// uses (below 2²⁴) and up to 2¹⁶ renders.
+    #[test]
+    fn the_three_kinds_of_seed_are_disjoint() {
+        let graded = [graded_seed(0, 0), graded_seed(0, 65_535), graded_seed((1 << 24) - 1, 65_535)];
+        assert!(graded.iter().all(|&s| s < expected_seed(0)));
+        assert!(expected_seed(65_535) < solution_seed(0));
+        assert_ne!(graded_seed(1, 0), graded_seed(0, 1));
     }
 }

@@ -4,6 +4,10 @@
 //! reads, the spp and seed, the raylab version and the render time. Grading refuses (exit 2) a
 //! reference whose scene or meshes changed since, rather than mis-grading against it. Hidden
 //! scenes keep theirs, and their own manifest, in `hidden/reference/`.
+//!
+//! A scene graded by the tile test ([`crate::noisy`]) has, beside its image, the tile means of
+//! the reference solution's renders (`<scene>.tiles.json`); its image is the average of the
+//! high-spp renders.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -13,7 +17,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::features::Masks;
 use crate::images::{film_to_image, read_png, write_png};
-use crate::rubric::{GradedScene, Rubric};
+use crate::noisy::{expected_seed, solution_seed, tile_means, NoisyReference, TileFile};
+use crate::rubric::{GradedScene, Rubric, TileTest};
+use raylab::film::Film;
 use raylab::geometry::SplitMethod;
 use raylab::image_io::write_file_atomic;
 use raylab::scene::{Scene, World};
@@ -63,6 +69,11 @@ pub fn image_path(root: &Path, scene: &GradedScene) -> PathBuf {
 /// The feature masks of a scene.
 pub fn masks_path(root: &Path, scene: &GradedScene) -> PathBuf {
     root.join(reference_dir(scene.hidden)).join(format!("{}.masks.png", scene.name))
+}
+
+/// The reference solution's tile means of a tile-tested scene.
+pub fn tiles_path(root: &Path, scene: &GradedScene) -> PathBuf {
+    root.join(reference_dir(scene.hidden)).join(format!("{}.tiles.json", scene.name))
 }
 
 /// 64-bit FNV-1a: a small, fixed, well-known hash; enough to notice an edited file.
@@ -127,19 +138,54 @@ impl Manifest {
     }
 }
 
-/// Renders a graded scene in this process at `spp` with the rubric's seed.
-pub fn render_scene(
-    root: &Path,
-    scene: &GradedScene,
-    spp: u32,
-) -> Result<(Scene, raylab::film::Film), String> {
+/// Renders a graded scene in this process at `spp` with `seed`.
+pub fn render_scene(root: &Path, scene: &GradedScene, spp: u32, seed: u64) -> Result<(Scene, Film), String> {
     let loaded = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?;
     let mut settings = loaded.settings;
     settings.spp = spp;
-    settings.seed = scene.seed;
+    settings.seed = seed;
     let world = World::new(&loaded, SplitMethod::ObjectMedian);
     let film = raylab::render::render(&world, &settings, &|_| {});
     Ok((loaded, film))
+}
+
+/// The reference of a tile-tested scene: its `reference_renders` high-spp renders (whose average
+/// is returned as the reference image) and `solution_renders` renders at the graded spp, as tile
+/// means written to [`tiles_path`].
+fn render_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> Result<(Scene, Film), String> {
+    let mut expected = Vec::new();
+    let mut average: Option<(Scene, Film)> = None;
+    for r in 0..test.reference_renders {
+        let (loaded, film) = render_scene(root, scene, scene.reference_spp, expected_seed(r))?;
+        expected.push(tile_means(&film, test.tile));
+        let (_, sum) = average.get_or_insert_with(|| (loaded, Film::new(film.width(), film.height())));
+        let n = test.reference_renders as f32;
+        let pixels = sum.pixels().iter().zip(film.pixels()).map(|(s, p)| *s + *p / n).collect();
+        *sum = Film::from_pixels(film.width(), film.height(), pixels);
+    }
+    let mut solution = Vec::new();
+    for s in 0..test.solution_renders {
+        solution.push(tile_means(&render_scene(root, scene, scene.spp, solution_seed(s))?.1, test.tile));
+    }
+    let file = TileFile { tile: test.tile, reference_spp: scene.reference_spp, spp: scene.spp, expected, solution };
+    file.write(&tiles_path(root, scene))?;
+    average.ok_or_else(|| format!("scene {}: tile_test needs reference renders", scene.name))
+}
+
+/// The reference solution's tile means of a tile-tested scene, checked against the rubric.
+pub fn load_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> Result<NoisyReference, String> {
+    let path = tiles_path(root, scene);
+    let file = TileFile::read(&path)?;
+    let counts = (file.expected.len() as u32, file.solution.len() as u32);
+    if (file.tile, file.reference_spp, file.spp) != (test.tile, scene.reference_spp, scene.spp)
+        || counts != (test.reference_renders, test.solution_renders)
+    {
+        return Err(format!(
+            "{} is stale: the rubric's tile, spp or render counts changed; run `grader update-references`",
+            path.display()
+        ));
+    }
+    Ok(file.reference())
 }
 
 /// Re-renders every reference image and mask and rewrites the manifest (the instructor's
@@ -151,10 +197,13 @@ pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         progress.set_message(scene.name.clone());
         let start = Instant::now();
-        let (loaded, film) = render_scene(root, scene, scene.reference_spp)?;
+        let (loaded, film) = match &scene.tile_test {
+            None => render_scene(root, scene, scene.reference_spp, scene.seed)?,
+            Some(test) => render_tile_reference(root, scene, test)?,
+        };
         let render_seconds = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        render_scene(root, scene, scene.spp)?;
+        render_scene(root, scene, scene.spp, scene.seed)?;
         let graded_render_seconds = start.elapsed().as_secs_f64();
         write_png(&image_path(root, scene), &film_to_image(&film)).map_err(|e| e.to_string())?;
         let masks = Masks::render(&World::new(&loaded, SplitMethod::ObjectMedian));

@@ -6,7 +6,7 @@ use std::path::Path;
 use serde_json::json;
 
 use crate::grading::GradeReport;
-use crate::heatmap::heatmap;
+use crate::heatmap::{heatmap, tile_map};
 use crate::images::write_png;
 use crate::rubric::Checkpoint;
 
@@ -149,13 +149,18 @@ fn round2(x: f64) -> f64 {
 }
 
 /// Writes each public scene's render and difference heat map into `dir` as `<scene>.png` and
-/// `<scene>.diff.png` (a hidden scene's images are never shown).
+/// `<scene>.diff.png`, and a noisy scene's tile map as `<scene>.tiles.png` (a hidden scene's
+/// images are never shown).
 pub fn write_images(report: &GradeReport, dir: &Path) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     for s in report.scenes.iter().filter(|s| !s.scene.hidden) {
         if let (Some(render), Some(ssim)) = (&s.render, &s.ssim) {
             write_png(&dir.join(format!("{}.png", s.scene.name)), render).map_err(|e| e.to_string())?;
             write_png(&dir.join(format!("{}.diff.png", s.scene.name)), &heatmap(ssim, &s.reference))
+                .map_err(|e| e.to_string())?;
+        }
+        if let (Some(verdict), Some(test)) = (&s.tiles, &s.scene.tile_test) {
+            write_png(&dir.join(format!("{}.tiles.png", s.scene.name)), &tile_map(verdict, test.tile, &s.reference))
                 .map_err(|e| e.to_string())?;
         }
     }

@@ -122,13 +122,35 @@ pub struct GradedScene {
     /// Every checkpoint whose code rendering the scene runs (a superset of `grades`): a failure
     /// is blamed on the lowest of them whose unit tests fail.
     pub depends_on: Vec<u32>,
-    /// What must hold for the scene to pass.
-    #[serde(rename = "check")]
+    /// What must hold for the scene to pass: image checks against the reference...
+    #[serde(rename = "check", default)]
     pub checks: Vec<Check>,
+    /// ...or, for a Monte Carlo scene, the per-tile statistical test of several renders.
+    pub tile_test: Option<TileTest>,
     /// Whether it comes from `hidden/rubric.toml`: its reference lives in `hidden/reference/`,
     /// and no report shows its images.
     #[serde(skip)]
     pub hidden: bool,
+}
+
+/// How a noisy (Monte Carlo) scene is graded: the per-tile statistical test of
+/// [`crate::noisy`], whose seeds [`crate::noisy::Seeds`] fixes in advance.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TileTest {
+    /// Renders of the graded code (`K`), each at the scene's `spp`.
+    pub renders: u32,
+    /// Side of the square tiles, in pixels.
+    pub tile: u32,
+    /// The probability that a correct submission fails the scene (the family-wise error rate).
+    pub alpha: f64,
+    /// Renders of the reference solution at `reference_spp` whose tile means give the expected
+    /// value (`R`); their average is the reference image.
+    pub reference_renders: u32,
+    /// Renders of the reference solution at `spp`: how noisy a correct render is.
+    pub solution_renders: u32,
+    /// Why these numbers: the calibration they come from.
+    pub why: String,
 }
 
 /// One requirement on a render, compared with the reference.
@@ -160,6 +182,9 @@ pub enum Metric {
     MaskSsim,
     /// Root mean square error of linear radiance inside a mask (8-bit sRGB decoded).
     MaskRmse,
+    /// The number of tiles failing a scene's [`TileTest`]; made by the grader from
+    /// `[scene.tile_test]`, never written as a `[[scene.check]]`.
+    TileTest,
 }
 
 /// Pixel sets derived from a feature render made with the reference solution.
@@ -182,6 +207,7 @@ impl Check {
             Metric::WorstTileError => "worst_tile_error",
             Metric::MaskSsim => "mask_ssim",
             Metric::MaskRmse => "mask_rmse",
+            Metric::TileTest => "tile_test",
         };
         match self.mask {
             Some(mask) => format!("{name}({})", format!("{mask:?}").to_lowercase()),
@@ -189,12 +215,23 @@ impl Check {
         }
     }
 
+    /// The check of a tile-tested scene: no tile may fail.
+    pub fn tile_test(test: &TileTest) -> Check {
+        Check { metric: Metric::TileTest, mask: None, min: None, max: Some(0.0), why: test.why.clone() }
+    }
+
+    /// A number shown beside the checks that decides nothing (SSIM of a noisy render).
+    pub fn diagnostic(metric: Metric) -> Check {
+        let why = "a diagnostic: two correct noisy renders differ, so it decides nothing".to_string();
+        Check { metric, mask: None, min: None, max: None, why }
+    }
+
     /// The threshold as text: `>= 0.990` or `<= 0.020`.
     pub fn threshold_text(&self) -> String {
         match (self.min, self.max) {
             (Some(min), _) => format!(">= {min:.4}"),
             (_, Some(max)) => format!("<= {max:.4}"),
-            (None, None) => "(none)".to_string(),
+            (None, None) => "diagnostic".to_string(),
         }
     }
 }
@@ -289,11 +326,19 @@ impl Rubric {
             if !root.join(&s.file).is_file() {
                 return Err(format!("scene {}: {} does not exist", s.name, s.file.display()));
             }
-            if s.spp == 0 || s.reference_spp < s.spp || s.grades.is_empty() || s.checks.is_empty() {
+            if s.spp == 0 || s.reference_spp < s.spp || s.grades.is_empty() || s.checks.is_empty() == s.tile_test.is_none() {
                 return Err(format!(
-                    "scene {}: needs spp >= 1, reference_spp >= spp, grades and checks",
+                    "scene {}: needs spp >= 1, reference_spp >= spp, grades, and either checks or a tile_test",
                     s.name
                 ));
+            }
+            if let Some(t) = &s.tile_test {
+                if t.renders < 2 || t.reference_renders < 2 || t.solution_renders < 2 || t.renders > 1 << 16 || t.tile == 0 || !(t.alpha > 0.0 && t.alpha < 1.0) || s.seed >= 1 << 24 {
+                    return Err(format!(
+                        "scene {}: tile_test needs 2 to 65536 renders of each kind, a tile of at least 1 pixel, 0 < alpha < 1 and a seed below 2^24 (crate::noisy::graded_seed)",
+                        s.name
+                    ));
+                }
             }
             if let Some(g) = s.grades.iter().chain(&s.depends_on).find(|g| !ids.contains(g)) {
                 return Err(format!("scene {}: names unknown checkpoint {g}", s.name));
@@ -305,9 +350,10 @@ impl Rubric {
             for check in &s.checks {
                 if check.metric.needs_mask() != check.mask.is_some()
                     || check.min.is_some() == check.max.is_some()
+                    || check.metric == Metric::TileTest
                 {
                     return Err(format!(
-                        "scene {}: {check:?} needs a mask exactly for mask metrics, and one of min or max",
+                        "scene {}: {check:?} needs a mask exactly for mask metrics, and one of min or max (a tile test is a [scene.tile_test])",
                         s.name
                     ));
                 }
