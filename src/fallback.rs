@@ -12,13 +12,14 @@
 //! | 3 (box), 4 (BVH) | every triangle is tested for every ray (no BVH, no boxes); slow |
 //! | 5 (glass, intersection test) | the first surface shaded by its normal; glass is not followed |
 //! | 6 (direct lighting), 8 (area lights) | checkpoint 5's shading, or the normal if 5 is not written either |
+//! | 9 (path tracing) | checkpoint 8's direct light only (no bounces), or as for 8 if 8 is not written |
 //! | 7 (anti-aliasing) | one ray through each pixel centre |
 //!
 //! Nothing here is ever graded: the grader renders with `render --no-fallbacks`, where a stub
 //! fails the scene.
 
 use crate::geometry::{intersect_triangle, BvhHit, SplitMethod, Triangle};
-use crate::integrator::{Integrator, IntersectionTestIntegrator};
+use crate::integrator::{Integrator, IntersectionTestIntegrator, MonteCarloDirectIntegrator};
 use crate::math::{Ray, Vec3};
 use crate::scene::{RenderSettings, Scene, World};
 
@@ -36,6 +37,8 @@ pub fn stub_checkpoint(message: &str) -> Option<u32> {
 pub enum Shading {
     /// Checkpoint 5's intersection-test integrator (no lights).
     IntersectionTest,
+    /// Checkpoint 8's Monte Carlo direct lighting (no bounces).
+    DirectOnly,
     /// The first surface's normal as a colour ([`normal_colour`]).
     Normals,
 }
@@ -64,7 +67,11 @@ impl Fallbacks {
                 self.shading = Some(Shading::Normals);
                 Some("shading the first surface by its normal; glass is not followed")
             }
-            6 | 8 if self.shading.is_none() => {
+            9 if self.shading.is_none() => {
+                self.shading = Some(Shading::DirectOnly);
+                Some("direct light only, as checkpoint 8 estimates it; no bounces")
+            }
+            6 | 8 if matches!(self.shading, None | Some(Shading::DirectOnly)) => {
                 self.shading = Some(Shading::IntersectionTest);
                 Some("shading as checkpoint 5 does, without lights")
             }
@@ -93,6 +100,9 @@ impl Fallbacks {
             None => Integrator::from_settings(settings),
             Some(Shading::IntersectionTest) => {
                 Integrator::IntersectionTest(IntersectionTestIntegrator { max_depth: settings.max_depth })
+            }
+            Some(Shading::DirectOnly) => {
+                Integrator::MonteCarloDirect(MonteCarloDirectIntegrator { max_depth: settings.max_depth })
             }
             Some(Shading::Normals) => Integrator::Normals,
         };

@@ -12,6 +12,7 @@
 //! | 6 | direct lighting: Lambertian BRDF, point lights, shadows | `src/integrator/direct_lighting.rs` | `cargo test checkpoint6` |
 //! | 7 | anti-aliasing: jittered samples per pixel | `src/sampling.rs`: [`sampling::estimate_pixel`] | `cargo test checkpoint7` |
 //! | 8 (extra) | area lights, Monte Carlo direct lighting | `src/light/area.rs`, `src/light/choice.rs`, `src/integrator/monte_carlo_direct.rs` | `cargo test checkpoint8` |
+//! | 9 (extra) | path tracing: cosine sampling, next-event estimation, Russian roulette | `src/hemisphere.rs`, `src/integrator/path_tracer.rs` | `cargo test checkpoint9` |
 //!
 //! Every task's code sits between `// BEGIN SOLUTION checkpointN` and `// END SOLUTION`; the
 //! student starter replaces it with `todo!()`. The conventions all checkpoints share (ray ranges,
@@ -30,6 +31,7 @@ pub mod camera;
 pub mod fallback;
 pub mod film;
 pub mod geometry;
+pub mod hemisphere;
 pub mod image_io;
 pub mod integrator;
 pub mod light;

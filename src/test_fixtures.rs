@@ -146,9 +146,24 @@ pub fn oracle_f64(ray: &Ray, tri: &Triangle) -> Option<Option<(f64, f64, f64, f6
 
 /// A scene from the TOML of its materials, lights and objects, with a small default camera.
 pub fn scene_from_toml(body: &str) -> crate::scene::Scene {
+    scene_from_toml_at(body, std::path::Path::new("test.toml"))
+}
+
+/// The same, as if read from `path` (meshes are found beside it).
+pub fn scene_from_toml_at(body: &str, path: &std::path::Path) -> crate::scene::Scene {
     let text = format!(
         "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov = 40\nwidth = 8\nheight = 8\n\
          [integrator]\nkind = \"direct_lighting\"\n{body}"
     );
-    crate::scene::Scene::from_toml(&text, std::path::Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}"))
+    crate::scene::Scene::from_toml(&text, path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// An estimator's mean equals the closed form `want` by a t-test at p > 1e-3 (a correct
+/// estimator fails one run in a thousand; with the tests' tens of thousands of samples the
+/// standard error is well under 1% of the mean, so a bias of a few percent fails).
+pub fn assert_mean(got: &crate::stats::Summary, want: f64) {
+    let se = got.variance_of_mean().sqrt();
+    let t = (got.mean - want) / se;
+    let p = crate::stats::student_t_two_sided(t, got.n - 1.0);
+    assert!(p > 1e-3, "mean {:.5} ± {se:.5}, closed form {want:.5}: t = {t:.1}, p = {p:.1e}", got.mean);
 }

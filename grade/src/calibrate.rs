@@ -4,7 +4,15 @@
 //! Each variant is written into one scratch tree (`target/variants/tree`, rewritten per variant)
 //! with a shared target folder, so only the renderer itself recompiles; this grader then grades
 //! its images only (no unit tests) and records every check's value. `--check` turns the table into a verdict:
-//! every correct variant must pass every scene, every mistake must fail the scenes it names.
+//! every correct variant must pass every scene, every mistake must fail the scenes it names (and
+//! is graded on those only).
+//!
+//! **Noisy scenes** (a `[scene.tile_test]`) fail a correct render with probability `alpha` by
+//! design, so there the verdict is statistical: the correct variants' false fails must be a count
+//! that `alpha` explains (binomial tail at least [`TOO_MANY`]). `--sweep N` measures the rates:
+//! every correct variant, and every mistake that must fail a noisy scene, on the noisy scenes with
+//! seeds 1 to N; [`sweep_markdown`] tabulates the false-fail rate and each mistake's power with
+//! their Clopper-Pearson intervals.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -14,7 +22,11 @@ use indicatif::ProgressBar;
 use serde_json::Value;
 
 use crate::grading::{grade, GradeOptions};
-use crate::rubric::Rubric;
+use crate::rubric::{GradedScene, Rubric};
+use raylab::stats::{binomial_at_least, clopper_pearson};
+
+/// A count of false fails whose binomial tail under `alpha` is below this is too many.
+pub const TOO_MANY: f64 = 1e-3;
 use crate::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
 
 /// One graded run of one variant with one seed.
@@ -28,33 +40,52 @@ pub struct Run {
     pub values: Result<Value, String>,
 }
 
-/// Builds and grades every variant; `progress` counts runs.
-pub fn run_all(root: &Path, progress: &ProgressBar) -> Result<Vec<Run>, String> {
+/// Builds and grades every variant: each correct one on every scene, each mistake on the scenes
+/// it must fail, with the seeds it lists; with `sweep = Some(n)` only the noisy scenes, seeds 1
+/// to n (module docs). `progress` counts runs.
+pub fn run_all(root: &Path, sweep: Option<u64>, progress: &ProgressBar) -> Result<Vec<Run>, String> {
     // Calibration needs the correct variants and the mistakes an image must show (`fails`); the
     // rest of the mistake catalogue is `cargo xtask zoo`'s.
     // Every patch must still apply, those of variants calibration does not build included.
     let catalogue = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
     check_patches(root, &catalogue)?;
-    let variants: Vec<Variant> =
-        catalogue.into_iter().filter(|v| v.correct || v.stub || !v.fails.is_empty()).collect();
+    let rubric = Rubric::of_tree(root)?;
+    let noisy: Vec<&str> =
+        rubric.scenes.iter().filter(|s| s.tile_test.is_some()).map(|s| s.name.as_str()).collect();
+    let scenes_of = |v: &Variant| -> Option<Vec<String>> {
+        let wanted = |name: &String| sweep.is_none() || noisy.contains(&name.as_str());
+        match v.correct {
+            true if sweep.is_none() => None,
+            true => Some(noisy.iter().map(|s| s.to_string()).collect()),
+            false => Some(v.fails.iter().filter(|n| wanted(n)).cloned().collect()),
+        }
+    };
+    let variants: Vec<Variant> = catalogue
+        .into_iter()
+        .filter(|v| {
+            (v.correct || v.stub || !v.fails.is_empty()) && scenes_of(v).is_none_or(|s| !s.is_empty())
+        })
+        .collect();
+    let seeds_of = |v: &Variant| -> Vec<Option<u64>> {
+        match sweep {
+            Some(n) => (1..=n).map(Some).collect(),
+            None if v.seeds.is_empty() => vec![None],
+            None => v.seeds.iter().copied().map(Some).collect(),
+        }
+    };
     // Absolute: cargo runs inside the scratch tree, where a relative path would mean another place.
     let root = std::path::absolute(root).map_err(|e| format!("{}: {e}", root.display()))?;
     let work = root.join("target/variants");
     let (tree, target) = (work.join("tree"), work.join("target"));
-    let count: usize = variants.iter().map(|v| v.seeds.len().max(1)).sum();
-    progress.set_length(count as u64);
+    progress.set_length(variants.iter().map(|v| seeds_of(v).len()).sum::<usize>() as u64);
     let mut runs = Vec::new();
     for variant in variants {
         progress.set_message(format!("building {}", variant.name));
         make_scratch_tree(&root, &tree, &variant)?;
-        let seeds: Vec<Option<u64>> = if variant.seeds.is_empty() {
-            vec![None]
-        } else {
-            variant.seeds.iter().copied().map(Some).collect()
-        };
-        for seed in seeds {
+        let scenes = scenes_of(&variant);
+        for seed in seeds_of(&variant) {
             progress.set_message(format!("grading {}", variant.name));
-            let values = grade_images(&tree, &target, seed);
+            let values = grade_images(&tree, &target, seed, scenes.clone());
             runs.push(Run { variant: variant.clone(), seed, values });
             progress.inc(1);
         }
@@ -63,20 +94,28 @@ pub fn run_all(root: &Path, progress: &ProgressBar) -> Result<Vec<Run>, String> 
 }
 
 /// Grades the images of the tree at `tree` (its renderer built into `target`): every check's
-/// value, per scene. `Err` for bad input (a broken rubric or reference), not for a broken tree.
-pub fn grade_images(tree: &Path, target: &Path, seed: Option<u64>) -> Result<Value, String> {
+/// value, per scene (the `scenes` named, or all). `Err` for bad input (a broken rubric or
+/// reference), not for a broken tree.
+pub fn grade_images(
+    tree: &Path,
+    target: &Path,
+    seed: Option<u64>,
+    scenes: Option<Vec<String>>,
+) -> Result<Value, String> {
     let options = GradeOptions {
         target: Some(target.to_path_buf()),
         run_tests: false,
         seed,
+        scenes,
         ..GradeOptions::new(tree)
     };
     Ok(grade(&options, &ProgressBar::hidden())?.values())
 }
 
-/// Problems with the current thresholds: a correct run failing a scene, or a mistake passing a
-/// scene it must fail. Empty when the rubric tells every variant right from wrong.
-pub fn verdicts(runs: &[Run]) -> Vec<String> {
+/// Problems with the current thresholds: a correct run failing a scene (on a noisy scene: more
+/// correct runs failing than its `alpha` explains), or a mistake passing a scene it must fail.
+/// Empty when the rubric tells every variant right from wrong.
+pub fn verdicts(runs: &[Run], rubric: &Rubric) -> Vec<String> {
     let mut problems = Vec::new();
     for run in runs {
         let label = run_label(run);
@@ -87,7 +126,8 @@ pub fn verdicts(runs: &[Run]) -> Vec<String> {
         let Some(scenes) = values.as_object() else { continue };
         for (scene, v) in scenes {
             let passed = v["passed"].as_bool().unwrap_or(false);
-            if run.variant.correct && !passed {
+            let noisy = rubric.scenes.iter().any(|s| &s.name == scene && s.tile_test.is_some());
+            if run.variant.correct && !passed && !noisy {
                 problems.push(format!("{label} is correct but fails {scene}: {}", failing_checks(v)));
             }
             if !run.variant.correct && passed && run.variant.fails.contains(scene) {
@@ -95,7 +135,59 @@ pub fn verdicts(runs: &[Run]) -> Vec<String> {
             }
         }
     }
+    for scene in rubric.scenes.iter().filter(|s| s.tile_test.is_some()) {
+        let (failed, n) = false_fails(runs, scene);
+        let alpha = scene.tile_test.as_ref().map_or(0.0, |t| t.alpha);
+        if binomial_at_least(failed, n, alpha) < TOO_MANY {
+            problems.push(format!(
+                "{}: {failed} of {n} correct runs fail, more than alpha = {alpha} explains (P = {:.1e})",
+                scene.name,
+                binomial_at_least(failed, n, alpha)
+            ));
+        }
+    }
     problems
+}
+
+/// The runs of correct variants that fail `scene`, and how many graded it.
+fn false_fails(runs: &[Run], scene: &GradedScene) -> (u64, u64) {
+    outcomes(runs.iter().filter(|r| r.variant.correct), scene)
+}
+
+/// Of `runs`, how many failed `scene`, and how many graded it.
+fn outcomes<'a>(runs: impl Iterator<Item = &'a Run>, scene: &GradedScene) -> (u64, u64) {
+    let graded: Vec<bool> =
+        runs.filter_map(|r| r.values.as_ref().ok()?.get(&scene.name)?["passed"].as_bool()).collect();
+    (graded.iter().filter(|p| !**p).count() as u64, graded.len() as u64)
+}
+
+/// The sweep's table (module docs): per noisy scene, each variant's fails over its seeds, the
+/// correct variants pooled, with 95% Clopper-Pearson intervals.
+pub fn sweep_markdown(runs: &[Run], rubric: &Rubric) -> String {
+    let mut out = String::new();
+    let interval = |x: u64, n: u64| {
+        let (lo, hi) = clopper_pearson(x, n, 0.95);
+        format!("{:.1}% [{:.1}%, {:.1}%]", 100.0 * x as f64 / n.max(1) as f64, 100.0 * lo, 100.0 * hi)
+    };
+    for scene in rubric.scenes.iter().filter(|s| s.tile_test.is_some()) {
+        let alpha = scene.tile_test.as_ref().map_or(0.0, |t| t.alpha);
+        let _ =
+            writeln!(out, "### {} (grades checkpoints {:?}, alpha = {alpha})\n", scene.name, scene.grades);
+        let _ = writeln!(out, "| variant | kind | failed | rate [95% interval] |");
+        let _ = writeln!(out, "|---|---|---|---|");
+        let mut names: Vec<&str> = runs.iter().map(|r| r.variant.name.as_str()).collect();
+        names.dedup();
+        for name in names {
+            let of_variant = || runs.iter().filter(|r| r.variant.name == name);
+            let (x, n) = outcomes(of_variant(), scene);
+            let Some(first) = of_variant().next().filter(|_| n > 0) else { continue };
+            let kind = if first.variant.correct { "correct: false fails" } else { "mistake: caught (power)" };
+            let _ = writeln!(out, "| {name} | {kind} | {x}/{n} | {} |", interval(x, n));
+        }
+        let (x, n) = false_fails(runs, scene);
+        let _ = writeln!(out, "| **all correct** | false-fail rate | {x}/{n} | {} |\n", interval(x, n));
+    }
+    out
 }
 
 fn failing_checks(scene: &Value) -> String {
@@ -122,7 +214,8 @@ fn run_label(run: &Run) -> String {
 pub fn markdown(runs: &[Run], rubric: &Rubric) -> String {
     let mut out = String::new();
     for scene in &rubric.scenes {
-        let labels: Vec<String> = scene.checks.iter().map(|c| c.label()).collect();
+        let checks = scene.graded_checks();
+        let labels: Vec<String> = checks.iter().map(|c| c.label()).collect();
         let _ =
             writeln!(out, "### {} (grades checkpoints {:?}, {} spp)\n", scene.name, scene.grades, scene.spp);
         let _ = writeln!(out, "| variant | kind | {} |", labels.join(" | "));
@@ -160,8 +253,7 @@ pub fn markdown(runs: &[Run], rubric: &Rubric) -> String {
             let _ = writeln!(out, "| {} | {kind} | {} |", run_label(run), cells.join(" | "));
         }
         let summary = |correct: bool| -> Vec<String> {
-            scene
-                .checks
+            checks
                 .iter()
                 .enumerate()
                 .map(|(i, c)| {
@@ -177,7 +269,7 @@ pub fn markdown(runs: &[Run], rubric: &Rubric) -> String {
         };
         let _ = writeln!(out, "| **worst correct** | | {} |", summary(true).join(" | "));
         let _ = writeln!(out, "| **best wrong** | | {} |", summary(false).join(" | "));
-        let thresholds: Vec<String> = scene.checks.iter().map(|c| c.threshold_text()).collect();
+        let thresholds: Vec<String> = checks.iter().map(|c| c.threshold_text()).collect();
         let _ = writeln!(out, "| **threshold** | | {} |\n", thresholds.join(" | "));
     }
     out

@@ -31,11 +31,11 @@ use crate::noisy::{compare, graded_seed, summarise, tile_means, tile_origin, Noi
 use crate::reference::{load_reference, load_tile_reference, Manifest};
 use crate::report::hint_text;
 use crate::rubric::{Check, Checkpoint, GradedScene, Metric, Rubric, TileTest};
-use raylab::film::Film;
-use raylab::image_io::read_pfm;
 use crate::ssim::SsimMap;
 use crate::stub::stubbed_checkpoints;
 use crate::unit_tests::{build_tests, TestRun};
+use raylab::film::Film;
+use raylab::image_io::read_pfm;
 
 /// A render may take this many times the reference's single-sample render time...
 const TIME_LIMIT_FACTOR: f64 = 20.0;
@@ -526,10 +526,11 @@ fn tile_test(
     let verdict = compare(&summarise(&means), tiles, test.alpha);
     let render = shown.ok_or("no render")?;
     let ssim = SsimMap::new(&render, &result.reference).map_err(|e| format!("{e} (render vs reference)"))?;
-    let checks = vec![
-        (Check::tile_test(test), Measured { value: verdict.failures.len() as f64, passed: verdict.passed() }),
-        (Check::diagnostic(Metric::Ssim), Measured { value: ssim.mean(), passed: true }),
+    let measured = [
+        Measured { value: verdict.failures.len() as f64, passed: verdict.passed() },
+        Measured { value: ssim.mean(), passed: true },
     ];
+    let checks = scene.graded_checks().into_iter().zip(measured).collect();
     result.tiles = Some(verdict);
     Ok((render, checks, ssim))
 }

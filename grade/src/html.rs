@@ -8,9 +8,9 @@ use base64::Engine;
 use image::RgbImage;
 
 use crate::grading::{GradeReport, SceneResult};
+use crate::heatmap::{heatmap, tile_map};
 use crate::noisy::{tile_origin, NoisyVerdict};
 use crate::rubric::TileTest;
-use crate::heatmap::{heatmap, tile_map};
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background:#fafafa;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\

@@ -128,7 +128,9 @@ pub fn compare(submission: &[[Summary; 3]], reference: &NoisyReference, alpha: f
         let mut p_tile: f64 = 1.0;
         for c in 0..3 {
             if !(got[c].mean.is_finite() && got[c].variance.is_finite()) {
-                first.get_or_insert_with(|| format!("{} radiance is not finite ({})", CHANNELS[c], got[c].mean));
+                first.get_or_insert_with(|| {
+                    format!("{} radiance is not finite ({})", CHANNELS[c], got[c].mean)
+                });
                 p_tile = 0.0;
                 continue;
             }
@@ -189,14 +191,16 @@ impl TileFile {
 
     /// Reads the file; errors name it.
     pub fn read(path: &Path) -> Result<TileFile, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let text =
+            std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
     }
 
     /// Writes the file (to a temporary name, then renamed).
     pub fn write(&self, path: &Path) -> Result<(), String> {
         let text = serde_json::to_string(self).map_err(|e| e.to_string())?;
-        raylab::image_io::write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+        raylab::image_io::write_file_atomic(path, text.as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))
     }
 }
 

@@ -167,13 +167,18 @@ fn render_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> R
     for s in 0..test.solution_renders {
         solution.push(tile_means(&render_scene(root, scene, scene.spp, solution_seed(s))?.1, test.tile));
     }
-    let file = TileFile { tile: test.tile, reference_spp: scene.reference_spp, spp: scene.spp, expected, solution };
+    let file =
+        TileFile { tile: test.tile, reference_spp: scene.reference_spp, spp: scene.spp, expected, solution };
     file.write(&tiles_path(root, scene))?;
     average.ok_or_else(|| format!("scene {}: tile_test needs reference renders", scene.name))
 }
 
 /// The reference solution's tile means of a tile-tested scene, checked against the rubric.
-pub fn load_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> Result<NoisyReference, String> {
+pub fn load_tile_reference(
+    root: &Path,
+    scene: &GradedScene,
+    test: &TileTest,
+) -> Result<NoisyReference, String> {
     let path = tiles_path(root, scene);
     let file = TileFile::read(&path)?;
     let counts = (file.expected.len() as u32, file.solution.len() as u32);

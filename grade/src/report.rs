@@ -160,8 +160,11 @@ pub fn write_images(report: &GradeReport, dir: &Path) -> Result<(), String> {
                 .map_err(|e| e.to_string())?;
         }
         if let (Some(verdict), Some(test)) = (&s.tiles, &s.scene.tile_test) {
-            write_png(&dir.join(format!("{}.tiles.png", s.scene.name)), &tile_map(verdict, test.tile, &s.reference))
-                .map_err(|e| e.to_string())?;
+            write_png(
+                &dir.join(format!("{}.tiles.png", s.scene.name)),
+                &tile_map(verdict, test.tile, &s.reference),
+            )
+            .map_err(|e| e.to_string())?;
         }
     }
     Ok(())

@@ -133,6 +133,17 @@ pub struct GradedScene {
     pub hidden: bool,
 }
 
+impl GradedScene {
+    /// The checks grading reports for this scene: the rubric's, or a tile test's verdict with
+    /// SSIM beside it as a diagnostic.
+    pub fn graded_checks(&self) -> Vec<Check> {
+        match &self.tile_test {
+            Some(test) => vec![Check::tile_test(test), Check::diagnostic(Metric::Ssim)],
+            None => self.checks.clone(),
+        }
+    }
+}
+
 /// How a noisy (Monte Carlo) scene is graded: the per-tile statistical test of
 /// [`crate::noisy`], whose seeds [`crate::noisy::Seeds`] fixes in advance.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -326,14 +337,25 @@ impl Rubric {
             if !root.join(&s.file).is_file() {
                 return Err(format!("scene {}: {} does not exist", s.name, s.file.display()));
             }
-            if s.spp == 0 || s.reference_spp < s.spp || s.grades.is_empty() || s.checks.is_empty() == s.tile_test.is_none() {
+            if s.spp == 0
+                || s.reference_spp < s.spp
+                || s.grades.is_empty()
+                || s.checks.is_empty() == s.tile_test.is_none()
+            {
                 return Err(format!(
                     "scene {}: needs spp >= 1, reference_spp >= spp, grades, and either checks or a tile_test",
                     s.name
                 ));
             }
             if let Some(t) = &s.tile_test {
-                if t.renders < 2 || t.reference_renders < 2 || t.solution_renders < 2 || t.renders > 1 << 16 || t.tile == 0 || !(t.alpha > 0.0 && t.alpha < 1.0) || s.seed >= 1 << 24 {
+                if t.renders < 2
+                    || t.reference_renders < 2
+                    || t.solution_renders < 2
+                    || t.renders > 1 << 16
+                    || t.tile == 0
+                    || !(t.alpha > 0.0 && t.alpha < 1.0)
+                    || s.seed >= 1 << 24
+                {
                     return Err(format!(
                         "scene {}: tile_test needs 2 to 65536 renders of each kind, a tile of at least 1 pixel, 0 < alpha < 1 and a seed below 2^24 (crate::noisy::graded_seed)",
                         s.name

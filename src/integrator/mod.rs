@@ -1,16 +1,20 @@
 //! Integrators: the radiance arriving along a camera ray.
 //!
-//! Both integrators follow a ray through glass to the first diffuse surface with
-//! [`trace_to_diffuse`] (checkpoint 5); they differ only in how they shade that surface. So the
-//! intersection-test integrator needs no lights, and checkpoint 5 never waits for checkpoint 6.
+//! The integrators of checkpoints 5, 6 and 8 follow a ray through glass to the first diffuse
+//! surface with [`trace_to_diffuse`] (checkpoint 5); they differ only in how they shade that
+//! surface. So the intersection-test integrator needs no lights, and checkpoint 5 never waits for
+//! checkpoint 6. The path tracer (checkpoint 9) goes on from there: it bounces off diffuse
+//! surfaces too, shading each with checkpoint 8's [`sample_direct`].
 
 mod direct_lighting;
 mod intersection_test;
 mod monte_carlo_direct;
+mod path_tracer;
 
 pub use direct_lighting::{direct_from_point_light, DirectLightingIntegrator};
 pub use intersection_test::{trace_to_diffuse, DiffuseHit, IntersectionTestIntegrator};
 pub use monte_carlo_direct::{sample_direct, MonteCarloDirectIntegrator};
+pub use path_tracer::{russian_roulette, PathTracerIntegrator, ROULETTE_AFTER};
 
 use crate::fallback::normal_colour;
 use crate::math::{Ray, Vec3};
@@ -26,6 +30,8 @@ pub enum Integrator {
     DirectLighting(DirectLightingIntegrator),
     /// Checkpoint 8.
     MonteCarloDirect(MonteCarloDirectIntegrator),
+    /// Checkpoint 9.
+    PathTracer(PathTracerIntegrator),
     /// The first surface's normal as a colour: `render`'s stand-in while checkpoint 5 is
     /// unwritten ([`crate::fallback`]); never graded.
     Normals,
@@ -43,6 +49,9 @@ impl Integrator {
             IntegratorKind::MonteCarloDirect => {
                 Self::MonteCarloDirect(MonteCarloDirectIntegrator { max_depth })
             }
+            IntegratorKind::PathTracer => {
+                Self::PathTracer(PathTracerIntegrator { max_depth, roulette_after: ROULETTE_AFTER })
+            }
         }
     }
 
@@ -53,6 +62,7 @@ impl Integrator {
             Self::IntersectionTest(i) => i.li(world, ray),
             Self::DirectLighting(i) => i.li(world, ray),
             Self::MonteCarloDirect(i) => i.li(world, ray, rng),
+            Self::PathTracer(i) => i.li(world, ray, rng),
             Self::Normals => normal_colour(world, ray),
         }
     }

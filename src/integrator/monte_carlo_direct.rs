@@ -129,8 +129,8 @@ mod checkpoint8 {
     use super::*;
     use crate::geometry::SplitMethod;
     use crate::scene::Scene;
-    use crate::stats::{student_t_two_sided, Summary};
-    use crate::test_fixtures::scene_from_toml;
+    use crate::stats::Summary;
+    use crate::test_fixtures::{assert_mean, scene_from_toml};
 
     const ALBEDO: f64 = 0.5;
 
@@ -168,19 +168,6 @@ mod checkpoint8 {
         let surface = floor_hit(&world, x);
         let mut rng = Rng::new(seed, 0);
         Summary::of((0..n).map(|_| sample_direct(&world, &surface, &mut rng).x as f64))
-    }
-
-    /// The estimate's mean equals `want` by a t-test at p > 1e-3: with 40,000 samples the
-    /// standard error is well under 1% of the mean here, so a bias of a few percent fails.
-    fn assert_mean(got: &Summary, want: f64) {
-        let t = (got.mean - want) / got.variance_of_mean().sqrt();
-        let p = student_t_two_sided(t, got.n - 1.0);
-        assert!(
-            p > 1e-3,
-            "mean {:.5} ± {:.5}, closed form {want:.5}: t = {t:.1}, p = {p:.1e}",
-            got.mean,
-            got.variance_of_mean().sqrt()
-        );
     }
 
     /// One square light above the floor: the mean reflected radiance is ρ/π times Lambert's

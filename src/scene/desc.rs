@@ -88,6 +88,8 @@ pub enum IntegratorKind {
     /// Checkpoint 8: direct light from point and area lights, estimated by sampling them; the
     /// camera sees emitting surfaces.
     MonteCarloDirect,
+    /// Checkpoint 9: global illumination by path tracing, with next-event estimation.
+    PathTracer,
 }
 
 /// One `[materials.NAME]` table. Which fields a kind needs is checked in `load.rs` (a plain

@@ -27,12 +27,17 @@ pub enum Command {
         /// The repository.
         #[arg(long, default_value = ".")]
         root: PathBuf,
-        /// Where to write the table (Markdown).
-        #[arg(long, default_value = "docs/CALIBRATION.md")]
-        table: PathBuf,
+        /// Where to write the table (Markdown) [default: docs/CALIBRATION.md, with --sweep
+        /// docs/TILE_TEST_CALIBRATION.md].
+        #[arg(long)]
+        table: Option<PathBuf>,
         /// Exit 1 unless every correct variant passes and every mistake fails its scenes.
         #[arg(long)]
         check: bool,
+        /// Measure the tile test's false-fail rate and power instead: the noisy scenes only, with
+        /// seeds 1 to N.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..1 << 24))]
+        sweep: Option<u64>,
     },
     /// Package the tree for a grading platform: `gradescope` writes Gradescope's autograder zip
     /// (setup.sh, run_autograder, this tree with its hidden checks, the crates vendored).
@@ -64,7 +69,7 @@ pub enum Command {
 pub fn run(command: Command) -> Result<ExitCode, String> {
     match command {
         Command::UpdateReferences { root } => update(&root),
-        Command::Calibrate { root, table, check } => calibrate(&root, &table, check),
+        Command::Calibrate { root, table, check, sweep } => calibrate(&root, table.as_deref(), check, sweep),
         Command::MakeVariant { name, out, root } => make_variant(&root, &name, &out),
         Command::Package { platform: _, out, root } => package(&root, &out),
     }
@@ -90,23 +95,38 @@ fn update(root: &Path) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn calibrate(root: &Path, table: &Path, check: bool) -> Result<ExitCode, String> {
+fn calibrate(root: &Path, table: Option<&Path>, check: bool, sweep: Option<u64>) -> Result<ExitCode, String> {
     let rubric = Rubric::of_tree(root)?;
     let progress = progress_bar(0);
-    let runs = raylab_grade::calibrate::run_all(root, &progress);
+    let runs = raylab_grade::calibrate::run_all(root, sweep, &progress);
     progress.finish_and_clear();
     let runs = runs?;
-    let text = raylab_grade::calibrate::markdown(&runs, &rubric);
-    let header =
-        "# Calibration\n\nWritten by `cargo run --release --bin grader -- calibrate`: every variant of \
-        `checkpoints/variants.toml` graded against the references. ✗ marks a failed check.\n\n";
+    let (text, header, default_table) = match sweep {
+        None => (
+            raylab_grade::calibrate::markdown(&runs, &rubric),
+            "# Calibration\n\nWritten by `cargo run --release --bin grader -- calibrate`: every variant of \
+            `checkpoints/variants.toml` graded against the references. ✗ marks a failed check.\n\n"
+                .to_string(),
+            "docs/CALIBRATION.md",
+        ),
+        Some(n) => (
+            raylab_grade::calibrate::sweep_markdown(&runs, &rubric),
+            format!(
+                "# Calibration of the tile test\n\nWritten by `cargo run --release --bin grader -- calibrate \
+                --sweep {n}`: the noisy scenes graded with seeds 1 to {n}, every correct variant and every \
+                mistake that must fail one; rates with 95% Clopper-Pearson intervals.\n\n"
+            ),
+            "docs/TILE_TEST_CALIBRATION.md",
+        ),
+    };
+    let table = table.unwrap_or(Path::new(default_table));
     if let Some(dir) = table.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     write_file_atomic(table, format!("{header}{text}").as_bytes())
         .map_err(|e| format!("{}: {e}", table.display()))?;
     println!("{text}");
-    let problems = raylab_grade::calibrate::verdicts(&runs);
+    let problems = raylab_grade::calibrate::verdicts(&runs, &rubric);
     for p in &problems {
         println!("calibration: {p}");
     }
