@@ -70,7 +70,7 @@ const BROKEN: &[(&str, &str, usize, &str)] = &[
     ("scale = [1, 1, 1]", "scale = [1, 0, 1]", 20, "objects[0].scale"),
     ("shape = \"sphere\"", "shape = \"obj\"\nfile = \"missing.obj\"", 19, "objects[0].file"),
     ("shape = \"sphere\"", "shape = \"cone\"", 18, "objects[0].shape"),
-    ("kind = \"intersection_test\"", "kind = \"path_tracer\"", 10, "integrator.kind"),
+    ("kind = \"intersection_test\"", "kind = \"photon_mapper\"", 10, "integrator.kind"),
     ("fov = 40", "fov = 40\nzoom = 2", 6, "camera"),
     ("albedo = [0.8, 0.8, 0.8]", "albedo = [0.8, 1.8, 0.8]", 15, "materials.white.albedo"),
     ("albedo = [0.8, 0.8, 0.8]", "ior = 1.5", 15, "materials.white.ior"),

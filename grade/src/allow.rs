@@ -79,8 +79,19 @@ pub const STUDENT_API: &[(u32, &[&str])] = &[
 ];
 
 /// Every module of the student API.
-const ALL_STUDENT_MODULES: &[&str] =
-    &["camera", "film", "geometry", "integrator", "light", "material", "math", "rng", "sampling", "scene"];
+const ALL_STUDENT_MODULES: &[&str] = &[
+    "camera",
+    "film",
+    "geometry",
+    "hemisphere",
+    "integrator",
+    "light",
+    "material",
+    "math",
+    "rng",
+    "sampling",
+    "scene",
+];
 
 /// The modules a region of `checkpoint` may name (see [`STUDENT_API`]).
 pub fn student_modules(checkpoint: u32) -> &'static [&'static str] {

@@ -738,7 +738,7 @@ mod tests {
     fn runs(failing: impl Fn(u32) -> bool) -> TestRuns {
         let run =
             |id| TestRun { passed: 5 - failing(id) as u32, failed: failing(id) as u32, ..TestRun::default() };
-        TestRuns { public: (1..=8).map(|id| (id, run(id))).collect(), hidden: BTreeMap::new() }
+        TestRuns { public: (1..=9).map(|id| (id, run(id))).collect(), hidden: BTreeMap::new() }
     }
 
     fn scored(
@@ -771,14 +771,14 @@ mod tests {
         }
     }
 
-    /// Checkpoint 2 written, 3 to 8 still the starter's: checkpoint 2 keeps its image points,
+    /// Checkpoint 2 written, 3 to 9 still the starter's: checkpoint 2 keeps its image points,
     /// and the later ones are "not started", with their handout.
     #[test]
     fn grader_gives_a_correct_checkpoint_its_points_when_later_ones_are_not_started() {
         let rubric = rubric();
         let tests = runs(|id| id > 2);
         let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
-        let results = scored(&rubric, &tests, &[3, 4, 5, 6, 7, 8], &scenes);
+        let results = scored(&rubric, &tests, &[3, 4, 5, 6, 7, 8, 9], &scenes);
         assert_eq!(results[1].score(), results[1].max_score(true));
         for c in &results[2..] {
             assert!(c.advice.as_deref().is_some_and(|a| a.starts_with("Not started")), "{:?}", c.advice);
