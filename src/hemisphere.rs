@@ -55,10 +55,9 @@ pub fn cosine_hemisphere(n: Vec3, u: [f32; 2]) -> Vec3 {
 }
 
 #[cfg(test)]
-mod checkpoint9 {
+mod tests {
     use super::*;
     use crate::rng::Rng;
-    use crate::stats::chi_square_upper;
     use crate::test_fixtures::random_unit_vector;
 
     /// The frame is orthonormal and right-handed for normals near every axis, both signs.
@@ -75,6 +74,14 @@ mod checkpoint9 {
             assert!((t.cross(b) - n).length() < 1e-5, "{n}: not right-handed");
         }
     }
+}
+
+#[cfg(test)]
+mod checkpoint9 {
+    use super::*;
+    use crate::rng::Rng;
+    use crate::stats::chi_square_upper;
+    use crate::test_fixtures::random_unit_vector;
 
     /// Every sample is a unit vector in the hemisphere around `n`, for random normals.
     #[test]

@@ -207,7 +207,7 @@ fn grader_report_for_the_solution() {
 fn grader_watch_moves_past_a_passing_checkpoint_and_ends() {
     let root = root();
     let mut child = Command::new(env!("CARGO_BIN_EXE_grader"))
-        .args(["watch", "--from", "8", "--root", root.to_str().unwrap()])
+        .args(["watch", "--from", "9", "--root", root.to_str().unwrap()])
         .env_remove("RAYLAB_GRADER_CHILD")
         .stdout(std::process::Stdio::piped())
         .spawn()
@@ -225,7 +225,7 @@ fn grader_watch_moves_past_a_passing_checkpoint_and_ends() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}");
     assert!(
-        text.contains("checkpoint 8 passes: 10.0/10") && text.contains("every checkpoint up to 8 passes"),
+        text.contains("checkpoint 9 passes: 20.0/20") && text.contains("every checkpoint up to 9 passes"),
         "{text}"
     );
 }
