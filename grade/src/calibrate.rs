@@ -40,10 +40,21 @@ pub struct Run {
     pub values: Result<Value, String>,
 }
 
+/// A sweep of the noisy scenes (module docs): seeds 1 to `seeds` for the correct variants, 1 to
+/// `mistake_seeds` for the mistakes (which fail far from the threshold: fewer seeds state their
+/// power well enough).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sweep {
+    /// Seeds of each correct variant.
+    pub seeds: u64,
+    /// Seeds of each mistake.
+    pub mistake_seeds: u64,
+}
+
 /// Builds and grades every variant: each correct one on every scene, each mistake on the scenes
-/// it must fail, with the seeds it lists; with `sweep = Some(n)` only the noisy scenes, seeds 1
-/// to n (module docs). `progress` counts runs.
-pub fn run_all(root: &Path, sweep: Option<u64>, progress: &ProgressBar) -> Result<Vec<Run>, String> {
+/// it must fail, with the seeds it lists; with a [`Sweep`] only the noisy scenes, with its seeds.
+/// `progress` counts runs.
+pub fn run_all(root: &Path, sweep: Option<Sweep>, progress: &ProgressBar) -> Result<Vec<Run>, String> {
     // Calibration needs the correct variants and the mistakes an image must show (`fails`); the
     // rest of the mistake catalogue is `cargo xtask zoo`'s.
     // Every patch must still apply, those of variants calibration does not build included.
@@ -68,7 +79,7 @@ pub fn run_all(root: &Path, sweep: Option<u64>, progress: &ProgressBar) -> Resul
         .collect();
     let seeds_of = |v: &Variant| -> Vec<Option<u64>> {
         match sweep {
-            Some(n) => (1..=n).map(Some).collect(),
+            Some(s) => (1..=if v.correct { s.seeds } else { s.mistake_seeds }).map(Some).collect(),
             None if v.seeds.is_empty() => vec![None],
             None => v.seeds.iter().copied().map(Some).collect(),
         }

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use clap::Subcommand;
 use raylab::image_io::write_file_atomic;
+use raylab_grade::calibrate::Sweep;
 use raylab_grade::reference::update_references;
 use raylab_grade::rubric::Rubric;
 use raylab_grade::variants::{make_scratch_tree, VariantFile};
@@ -38,6 +39,9 @@ pub enum Command {
         /// seeds 1 to N.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..1 << 24))]
         sweep: Option<u64>,
+        /// With --sweep: seeds 1 to M for each mistake [default: N].
+        #[arg(long, value_name = "M", requires = "sweep", value_parser = clap::value_parser!(u64).range(1..1 << 24))]
+        mistake_seeds: Option<u64>,
     },
     /// Package the tree for a grading platform: `gradescope` writes Gradescope's autograder zip
     /// (setup.sh, run_autograder, this tree with its hidden checks, the crates vendored).
@@ -69,7 +73,10 @@ pub enum Command {
 pub fn run(command: Command) -> Result<ExitCode, String> {
     match command {
         Command::UpdateReferences { root } => update(&root),
-        Command::Calibrate { root, table, check, sweep } => calibrate(&root, table.as_deref(), check, sweep),
+        Command::Calibrate { root, table, check, sweep, mistake_seeds } => {
+            let sweep = sweep.map(|seeds| Sweep { seeds, mistake_seeds: mistake_seeds.unwrap_or(seeds) });
+            calibrate(&root, table.as_deref(), check, sweep)
+        }
         Command::MakeVariant { name, out, root } => make_variant(&root, &name, &out),
         Command::Package { platform: _, out, root } => package(&root, &out),
     }
@@ -95,7 +102,12 @@ fn update(root: &Path) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn calibrate(root: &Path, table: Option<&Path>, check: bool, sweep: Option<u64>) -> Result<ExitCode, String> {
+fn calibrate(
+    root: &Path,
+    table: Option<&Path>,
+    check: bool,
+    sweep: Option<Sweep>,
+) -> Result<ExitCode, String> {
     let rubric = Rubric::of_tree(root)?;
     let progress = progress_bar(0);
     let runs = raylab_grade::calibrate::run_all(root, sweep, &progress);
@@ -109,12 +121,13 @@ fn calibrate(root: &Path, table: Option<&Path>, check: bool, sweep: Option<u64>)
                 .to_string(),
             "docs/CALIBRATION.md",
         ),
-        Some(n) => (
+        Some(Sweep { seeds, mistake_seeds }) => (
             raylab_grade::calibrate::sweep_markdown(&runs, &rubric),
             format!(
                 "# Calibration of the tile test\n\nWritten by `cargo run --release --bin grader -- calibrate \
-                --sweep {n}`: the noisy scenes graded with seeds 1 to {n}, every correct variant and every \
-                mistake that must fail one; rates with 95% Clopper-Pearson intervals.\n\n"
+                --sweep {seeds} --mistake-seeds {mistake_seeds}`: the noisy scenes graded with seeds 1 to {seeds} \
+                for every correct variant, 1 to {mistake_seeds} for every mistake that must fail one; rates \
+                with 95% Clopper-Pearson intervals.\n\n"
             ),
             "docs/TILE_TEST_CALIBRATION.md",
         ),
