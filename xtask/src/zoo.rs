@@ -77,7 +77,13 @@ pub fn zoo() -> Result<(), String> {
          scene grading that checkpoint.\n\n{}\n",
         rows.join("\n")
     );
-    std::fs::write(root.join("docs/ZOO.md"), table).map_err(|e| format!("docs/ZOO.md: {e}"))?;
+    // The hand-written sections after the table (from its first `## ` heading on) are kept.
+    let path = root.join("docs/ZOO.md");
+    let kept = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|old| old.find("\n## ").map(|i| old[i..].to_string()))
+        .unwrap_or_default();
+    std::fs::write(&path, format!("{table}{kept}")).map_err(|e| format!("docs/ZOO.md: {e}"))?;
     if problems.is_empty() {
         Ok(())
     } else {
