@@ -47,7 +47,8 @@ pub struct ReferenceEntry {
     pub seed: u64,
     /// raylab's version when it was made.
     pub raylab_version: String,
-    /// Seconds the reference render took (in process, all threads).
+    /// Seconds the reference render took (in process, all threads; for a tile-tested scene all
+    /// its reference renders, at `reference_spp` and at the graded spp).
     pub render_seconds: f64,
     /// Seconds a single-sample render took: the base of the grader's time limit.
     pub graded_render_seconds: f64,
