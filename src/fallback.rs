@@ -182,4 +182,18 @@ mod tests {
         assert_eq!(f.take(3), None, "3 and 4 share one stand-in");
         assert!(f.take(7).is_some() && f.pixel_centre);
     }
+
+    /// Path tracing unwritten: checkpoint 8's direct light; then 8 unwritten too: checkpoint 5's
+    /// shading, then the normals.
+    #[test]
+    fn path_tracing_falls_back_to_direct_light_then_to_checkpoint_5() {
+        let mut f = Fallbacks::default();
+        assert!(f.take(9).is_some());
+        assert_eq!(f.shading, Some(Shading::DirectOnly));
+        assert!(f.take(8).is_some());
+        assert_eq!(f.shading, Some(Shading::IntersectionTest));
+        assert_eq!(f.take(9), None);
+        assert!(f.take(5).is_some());
+        assert_eq!(f.shading, Some(Shading::Normals));
+    }
 }
