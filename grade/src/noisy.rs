@@ -316,6 +316,18 @@ mod tests {
         }
     }
 
+    /// Code that ignores the seed renders the same noisy image every time: its spread is zero,
+    /// so nothing hides its one render's noise, which is far beyond the expected mean's
+    /// uncertainty (a zero variance is the grader's own measurement, never one reported).
+    #[test]
+    fn renders_that_ignore_the_seed_fail() {
+        let mut rng = Rng::new(94, 0);
+        let reference = reference(&mut rng);
+        let once = tile_means(&render(&mut rng, 0.05, 1.0, 1.0), 16);
+        let verdict = compare(&summarise(&vec![once; 8]), &reference, 0.01);
+        assert!(verdict.failures.len() >= 4, "{} of 8 tiles failed", verdict.failures.len());
+    }
+
     /// The graded, expected and solution seeds never meet, for any base a rubric or calibration
     /// uses (below 2²⁴) and up to 2¹⁶ renders.
     #[test]
