@@ -154,6 +154,14 @@ pub const MACROS: &[&str] = &[
     "writeln",
 ];
 
+/// A region computes; it does not carry data. More number literals than this in one region...
+const MAX_NUMBERS: usize = 64;
+/// ...or string literals longer than this in all, look like an embedded table (a reference
+/// image's pixels, the tile means a noisy scene is graded against) and reject the region. The
+/// solution's largest region has 10 number literals and no string (2026-12-02); a test keeps
+/// every region below a quarter of both limits.
+const MAX_TEXT: usize = 512;
+
 /// Attributes a region may carry.
 const ATTRIBUTES: &[&str] = &["allow", "doc", "inline", "must_use"];
 
@@ -172,7 +180,8 @@ pub fn check_region(body: &str, checkpoint: u32) -> Result<(), Rejection> {
     // The body is parsed as a block; "{\n" shifts every line by one.
     let block: syn::Block = syn::parse_str(&format!("{{\n{body}\n}}"))
         .map_err(|e| Rejection { line: line_of(e.span()), reason: format!("does not parse: {e}") })?;
-    let mut checker = Checker { found: None, modules: student_modules(checkpoint), checkpoint };
+    let mut checker =
+        Checker { found: None, modules: student_modules(checkpoint), checkpoint, numbers: 0, text: 0 };
     checker.visit_block(&block);
     checker.found.map_or(Ok(()), Err)
 }
@@ -186,6 +195,9 @@ struct Checker {
     /// The `crate::` modules this region may name.
     modules: &'static [&'static str],
     checkpoint: u32,
+    /// Number literals so far, and bytes of string literals.
+    numbers: usize,
+    text: usize,
 }
 
 impl Checker {
@@ -366,6 +378,24 @@ impl<'ast> Visit<'ast> for Checker {
         }
     }
 
+    fn visit_lit(&mut self, lit: &'ast syn::Lit) {
+        match lit {
+            syn::Lit::Int(_) | syn::Lit::Float(_) => self.numbers += 1,
+            syn::Lit::Str(s) => self.text += s.value().len(),
+            syn::Lit::ByteStr(s) => self.text += s.value().len(),
+            syn::Lit::CStr(s) => self.text += s.value().as_bytes().len(),
+            _ => {}
+        }
+        if self.numbers > MAX_NUMBERS || self.text > MAX_TEXT {
+            self.reject(
+                lit.span(),
+                format!(
+                    "more than {MAX_NUMBERS} numbers or {MAX_TEXT} bytes of text: a solution computes, it does not embed data"
+                ),
+            );
+        }
+    }
+
     fn visit_expr_unsafe(&mut self, e: &'ast syn::ExprUnsafe) {
         self.reject(e.unsafe_token.span, "`unsafe` is not allowed in solutions".to_string());
     }
@@ -538,6 +568,40 @@ mod tests {
         assert!(check_region("let b = crate::geometry::Aabb::new;", 7).is_err());
         assert!(check_region("let s = crate::sampling::estimate_pixel;", 7).is_ok());
         assert!(check_region(light, 8).is_ok());
+    }
+
+    /// A table of values (here 300 tile means, as a region copying a noisy scene's reference
+    /// would hold) is rejected, in numbers or in text; the solution's regions stay far below the
+    /// limits.
+    #[test]
+    fn grader_rejects_a_region_that_embeds_a_table_of_data() {
+        let table: Vec<String> = (0..300).map(|i| format!("{:.4}", i as f32 / 300.0)).collect();
+        let numbers = format!("const T: [f32; 300] = [{}];\nT[0]", table.join(", "));
+        assert!(rejected(&numbers).reason.contains("does not embed data"));
+        let text = format!("let t = \"{}\";\nt.len()", table.join(","));
+        assert!(rejected(&text).reason.contains("does not embed data"));
+        let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../src");
+        let (mut numbers, mut text) = (0, 0);
+        for (_, file) in rust_files(&src).unwrap() {
+            for checkpoint in 1..=9 {
+                for r in region_bodies(&file, checkpoint) {
+                    let block: syn::Block = syn::parse_str(&format!("{{\n{}\n}}", &file[r])).unwrap();
+                    let mut checker = Checker {
+                        found: None,
+                        modules: student_modules(checkpoint),
+                        checkpoint,
+                        numbers: 0,
+                        text: 0,
+                    };
+                    checker.visit_block(&block);
+                    (numbers, text) = (checker.numbers.max(numbers), checker.text.max(text));
+                }
+            }
+        }
+        assert!(
+            numbers <= MAX_NUMBERS / 4 && text <= MAX_TEXT / 4,
+            "the solution's largest region: {numbers} numbers, {text} bytes"
+        );
     }
 
     #[test]

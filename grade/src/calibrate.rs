@@ -137,8 +137,9 @@ pub fn verdicts(runs: &[Run], rubric: &Rubric) -> Vec<String> {
         let Some(scenes) = values.as_object() else { continue };
         for (scene, v) in scenes {
             let passed = v["passed"].as_bool().unwrap_or(false);
+            // On a noisy scene a correct run may fail by chance (judged below), never by an error.
             let noisy = rubric.scenes.iter().any(|s| &s.name == scene && s.tile_test.is_some());
-            if run.variant.correct && !passed && !noisy {
+            if run.variant.correct && !passed && (!noisy || !v["error"].is_null()) {
                 problems.push(format!("{label} is correct but fails {scene}: {}", failing_checks(v)));
             }
             if !run.variant.correct && passed && run.variant.fails.contains(scene) {
@@ -160,7 +161,8 @@ pub fn verdicts(runs: &[Run], rubric: &Rubric) -> Vec<String> {
     problems
 }
 
-/// The runs of correct variants that fail `scene`, and how many graded it.
+/// The runs of correct variants that fail `scene` (by the test, or by an error), and how many
+/// graded it.
 fn false_fails(runs: &[Run], scene: &GradedScene) -> (u64, u64) {
     outcomes(runs.iter().filter(|r| r.variant.correct), scene)
 }

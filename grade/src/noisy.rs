@@ -10,9 +10,12 @@
 //! spp (how noisy a correct render is).
 //!
 //! **The tests**, per tile and channel: Welch's t-test of equal means (the submission's `K` tile
-//! means against the reference's `R`), and an F-test of the submission's variance against the
-//! solution's at the same spp, one-sided: a tile far noisier than the solution's fails (a wrong
-//! pdf can be unbiased and still useless). All tests of an image form one family with the
+//! means against the reference's `R`), and a two-sided F-test of the submission's variance
+//! against the solution's at the same spp: a tile far noisier than the solution's fails (a wrong
+//! pdf can be unbiased and still useless), and so does one far *less* noisy, since renders that
+//! do not vary with the seed (code that ignores it, or returns fixed values) are not independent
+//! estimates: their spread is near zero and Welch's test alone would judge them with the
+//! reference's few degrees of freedom. All tests of an image form one family with the
 //! family-wise error rate `alpha` fixed in advance: each is run at Šidák's level, so a correct
 //! submission fails anywhere in the image with probability `alpha`. See [`raylab::stats`].
 //! A tile whose numbers are not finite (NaN or infinite radiance) fails, whatever its p-values.
@@ -138,7 +141,8 @@ pub fn compare(submission: &[[Summary; 3]], reference: &NoisyReference, alpha: f
             let (d1, d2) = (got[c].n - 1.0, solution[c].n - 1.0);
             // A solution tile without noise (all black, say) leaves the mean test to judge.
             let spread = if solution[c].variance > 0.0 {
-                f_upper(got[c].variance / solution[c].variance, d1, d2)
+                let upper = f_upper(got[c].variance / solution[c].variance, d1, d2);
+                (2.0 * upper.min(1.0 - upper)).min(1.0)
             } else {
                 1.0
             };
@@ -150,7 +154,7 @@ pub fn compare(submission: &[[Summary; 3]], reference: &NoisyReference, alpha: f
                 ));
             } else if first.is_none() && spread < level {
                 first = Some(format!(
-                    "{} noise {:.1}x the solution's (p = {spread:.1e})",
+                    "{} noise {:.2}x the solution's (p = {spread:.1e})",
                     CHANNELS[c],
                     (got[c].variance / solution[c].variance).sqrt()
                 ));
@@ -316,16 +320,25 @@ mod tests {
         }
     }
 
-    /// Code that ignores the seed renders the same noisy image every time: its spread is zero,
-    /// so nothing hides its one render's noise, which is far beyond the expected mean's
-    /// uncertainty (a zero variance is the grader's own measurement, never one reported).
+    /// Code that ignores the seed renders the same image every time (one noisy render, or fixed
+    /// values copied from the reference): its spread is zero, far below the solution's, so every
+    /// tile fails the spread test, even against a reference of only 4 high-spp renders, whose 3
+    /// degrees of freedom would let Welch's test pass a tile off by several times its noise.
     #[test]
     fn renders_that_ignore_the_seed_fail() {
         let mut rng = Rng::new(94, 0);
-        let reference = reference(&mut rng);
+        let reference = NoisyReference {
+            expected: summary_of(&mut rng, 4, 0.05 / 16.0, 1.0, 1.0),
+            solution: summary_of(&mut rng, 16, 0.05, 1.0, 1.0),
+        };
         let once = tile_means(&render(&mut rng, 0.05, 1.0, 1.0), 16);
-        let verdict = compare(&summarise(&vec![once; 8]), &reference, 0.01);
-        assert!(verdict.failures.len() >= 4, "{} of 8 tiles failed", verdict.failures.len());
+        let copied: Vec<[f64; 3]> = reference.expected.iter().map(|t| t.map(|c| c.mean)).collect();
+        for fixed in [once, copied] {
+            let verdict = compare(&summarise(&vec![fixed; 16]), &reference, 0.01);
+            assert_eq!(verdict.failures.len(), 8, "{:?}", verdict.failures);
+            // Each channel's spread test fails; a tile's first failing test may be a mean.
+            assert!(verdict.tile_p.iter().all(|&p| p == 0.0), "{:?}", verdict.tile_p);
+        }
     }
 
     /// The graded, expected and solution seeds never meet, for any base a rubric or calibration

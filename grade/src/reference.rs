@@ -183,11 +183,14 @@ pub fn load_tile_reference(
     let path = tiles_path(root, scene);
     let file = TileFile::read(&path)?;
     let counts = (file.expected.len() as u32, file.solution.len() as u32);
+    let camera = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?.camera;
+    let tiles = (camera.width().div_ceil(test.tile) * camera.height().div_ceil(test.tile)) as usize;
     if (file.tile, file.reference_spp, file.spp) != (test.tile, scene.reference_spp, scene.spp)
         || counts != (test.reference_renders, test.solution_renders)
+        || file.expected.iter().chain(&file.solution).any(|r| r.len() != tiles)
     {
         return Err(format!(
-            "{} is stale: the rubric's tile, spp or render counts changed; run `grader update-references`",
+            "{} is stale: the rubric's tile, spp or render counts, or the film size, changed; run `grader update-references`",
             path.display()
         ));
     }
