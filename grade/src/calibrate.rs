@@ -40,15 +40,16 @@ pub struct Run {
     pub values: Result<Value, String>,
 }
 
-/// A sweep of the noisy scenes (module docs): seeds 1 to `seeds` for the correct variants, 1 to
-/// `mistake_seeds` for the mistakes (which fail far from the threshold: fewer seeds state their
-/// power well enough).
+/// A sweep of the noisy scenes (module docs): seeds 1 to `seeds` for the solution and the
+/// correct variants of the checkpoints a noisy scene grades; 1 to `other_seeds` for the other
+/// correct variants (which change the noisy renders only through code they share with them) and
+/// for the mistakes (which fail far from any threshold).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Sweep {
-    /// Seeds of each correct variant.
+    /// Seeds of the solution and of each correct variant of a noisy scene's checkpoint.
     pub seeds: u64,
-    /// Seeds of each mistake.
-    pub mistake_seeds: u64,
+    /// Seeds of every other variant.
+    pub other_seeds: u64,
 }
 
 /// Builds and grades every variant: each correct one on every scene, each mistake on the scenes
@@ -63,6 +64,11 @@ pub fn run_all(root: &Path, sweep: Option<Sweep>, progress: &ProgressBar) -> Res
     let rubric = Rubric::of_tree(root)?;
     let noisy: Vec<&str> =
         rubric.scenes.iter().filter(|s| s.tile_test.is_some()).map(|s| s.name.as_str()).collect();
+    let noisy_graded: Vec<u32> =
+        rubric.scenes.iter().filter(|s| s.tile_test.is_some()).flat_map(|s| s.grades.clone()).collect();
+    // The solution is the variant without patches.
+    let full_sweep =
+        |v: &Variant| v.correct && (v.patches.is_empty() || noisy_graded.contains(&v.checkpoint));
     let scenes_of = |v: &Variant| -> Option<Vec<String>> {
         let wanted = |name: &String| sweep.is_none() || noisy.contains(&name.as_str());
         match v.correct {
@@ -79,7 +85,7 @@ pub fn run_all(root: &Path, sweep: Option<Sweep>, progress: &ProgressBar) -> Res
         .collect();
     let seeds_of = |v: &Variant| -> Vec<Option<u64>> {
         match sweep {
-            Some(s) => (1..=if v.correct { s.seeds } else { s.mistake_seeds }).map(Some).collect(),
+            Some(s) => (1..=if full_sweep(v) { s.seeds } else { s.other_seeds }).map(Some).collect(),
             None if v.seeds.is_empty() => vec![None],
             None => v.seeds.iter().copied().map(Some).collect(),
         }

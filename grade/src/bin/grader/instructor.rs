@@ -39,9 +39,10 @@ pub enum Command {
         /// seeds 1 to N.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..1 << 24))]
         sweep: Option<u64>,
-        /// With --sweep: seeds 1 to M for each mistake [default: N].
+        /// With --sweep: seeds 1 to M for the mistakes and for the correct variants of
+        /// checkpoints no noisy scene grades [default: N].
         #[arg(long, value_name = "M", requires = "sweep", value_parser = clap::value_parser!(u64).range(1..1 << 24))]
-        mistake_seeds: Option<u64>,
+        other_seeds: Option<u64>,
     },
     /// Package the tree for a grading platform: `gradescope` writes Gradescope's autograder zip
     /// (setup.sh, run_autograder, this tree with its hidden checks, the crates vendored).
@@ -73,8 +74,8 @@ pub enum Command {
 pub fn run(command: Command) -> Result<ExitCode, String> {
     match command {
         Command::UpdateReferences { root } => update(&root),
-        Command::Calibrate { root, table, check, sweep, mistake_seeds } => {
-            let sweep = sweep.map(|seeds| Sweep { seeds, mistake_seeds: mistake_seeds.unwrap_or(seeds) });
+        Command::Calibrate { root, table, check, sweep, other_seeds } => {
+            let sweep = sweep.map(|seeds| Sweep { seeds, other_seeds: other_seeds.unwrap_or(seeds) });
             calibrate(&root, table.as_deref(), check, sweep)
         }
         Command::MakeVariant { name, out, root } => make_variant(&root, &name, &out),
@@ -121,13 +122,14 @@ fn calibrate(
                 .to_string(),
             "docs/CALIBRATION.md",
         ),
-        Some(Sweep { seeds, mistake_seeds }) => (
+        Some(Sweep { seeds, other_seeds }) => (
             raylab_grade::calibrate::sweep_markdown(&runs, &rubric),
             format!(
                 "# Calibration of the tile test\n\nWritten by `cargo run --release --bin grader -- calibrate \
-                --sweep {seeds} --mistake-seeds {mistake_seeds}`: the noisy scenes graded with seeds 1 to {seeds} \
-                for every correct variant, 1 to {mistake_seeds} for every mistake that must fail one; rates \
-                with 95% Clopper-Pearson intervals.\n\n"
+                --sweep {seeds} --other-seeds {other_seeds}`: the noisy scenes graded with seeds 1 to {seeds} for \
+                the solution and the correct variants of checkpoints 8 and 9, 1 to {other_seeds} for the other \
+                correct variants and for every mistake that must fail a noisy scene; rates with 95% \
+                Clopper-Pearson intervals.\n\n"
             ),
             "docs/TILE_TEST_CALIBRATION.md",
         ),
