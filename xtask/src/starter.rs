@@ -14,12 +14,13 @@ use crate::{repository, CHECKPOINTS};
 /// Left out of the starter: instructor-only material (this generator, the benchmarks, the
 /// mistake catalogue and what it measured, and the instructor's CI, which runs them). Paths are
 /// relative to the repository; a folder leaves out everything below it.
-const INSTRUCTOR_ONLY: [&str; 12] = [
+const INSTRUCTOR_ONLY: [&str; 13] = [
     "xtask",
     "bench",
     ".ci",
     "checkpoints/variants.toml",
     "docs/CALIBRATION.md",
+    "docs/TILE_TEST_CALIBRATION.md",
     "docs/ZOO.md",
     "docs/PERFORMANCE.md",
     "docs/INSTRUCTORS.md",
