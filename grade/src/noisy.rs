@@ -112,8 +112,6 @@ pub struct NoisyVerdict {
     pub failures: Vec<TileFailure>,
     /// The level each test was run at (Šidák, from the family-wise rate).
     pub level: f64,
-    /// The smallest p-value of any test.
-    pub min_p: f64,
     /// Per tile, the smallest p-value of its tests (0 for numbers that are not finite).
     pub tile_p: Vec<f64>,
 }
@@ -183,8 +181,7 @@ pub fn compare(submission: &[[Summary; 3]], reference: &NoisyReference, alpha: f
             failures.push(TileFailure { tile, reason });
         }
     }
-    let min_p = tile_p.iter().copied().fold(1.0, f64::min);
-    NoisyVerdict { failures, level, min_p, tile_p }
+    NoisyVerdict { failures, level, tile_p }
 }
 
 /// The reference solution's tile means, as `grader update-references` writes them beside the
