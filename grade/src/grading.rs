@@ -27,7 +27,7 @@ use crate::child::{run_limited, Limits, CHILD_ENV};
 use crate::features::Masks;
 use crate::images::read_png;
 use crate::metrics::{Comparison, Measured};
-use crate::noisy::{compare, graded_seed, summarise, tile_means, tile_origin, NoisyReference, NoisyVerdict};
+use crate::noisy::{compare, graded_seed, tile_means, tile_origin, NoisyReference, NoisyVerdict};
 use crate::reference::{load_reference, load_tile_reference, Manifest};
 use crate::report::hint_text;
 use crate::rubric::{Check, Checkpoint, GradedScene, Metric, Rubric, TileTest};
@@ -523,7 +523,7 @@ fn tile_test(
         means.push(tile_means(&film, test.tile));
         shown.get_or_insert(rendered.image);
     }
-    let verdict = compare(&summarise(&means), tiles, test.alpha);
+    let verdict = compare(&means, tiles, test.alpha);
     let render = shown.ok_or("no render")?;
     let ssim = SsimMap::new(&render, &result.reference).map_err(|e| format!("{e} (render vs reference)"))?;
     let measured = [
