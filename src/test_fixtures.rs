@@ -1,6 +1,6 @@
 //! Shared test fixtures: random geometry, awkward meshes, and an f64 ray-triangle oracle.
 
-use crate::geometry::{Bvh, SplitMethod, TraversalStats, Triangle, TriangleHit, TriangleMesh};
+use crate::geometry::{Bvh, BvhHit, SplitMethod, TraversalStats, Triangle, TriangleHit, TriangleMesh};
 use crate::math::{Ray, Vec3};
 use crate::rng::Rng;
 
@@ -50,11 +50,24 @@ fn random_ray(rng: &mut Rng) -> Ray {
 pub fn check_against_brute_force(triangles: &[Triangle], method: SplitMethod, rays: usize, rng: &mut Rng) {
     let bvh = Bvh::build(triangles, method);
     let mut stats = TraversalStats::default();
+    check_tracer_against_brute_force(triangles, rays, rng, |ray, any_hit| {
+        bvh.traverse(ray, any_hit, &mut stats)
+    });
+}
+
+/// [`check_against_brute_force`] for any tracer: `trace(ray, any_hit)` answers as
+/// [`Bvh::traverse`] does.
+pub fn check_tracer_against_brute_force(
+    triangles: &[Triangle],
+    rays: usize,
+    rng: &mut Rng,
+    mut trace: impl FnMut(&Ray, bool) -> Option<BvhHit>,
+) {
     for _ in 0..rays {
         let ray = random_ray(rng);
         let want = brute_force(triangles, &ray);
-        let got = bvh.intersect(&ray, &mut stats);
-        assert_eq!(bvh.occluded(&ray, &mut stats), want.is_some(), "any-hit on {ray:?}");
+        let got = trace(&ray, false);
+        assert_eq!(trace(&ray, true).is_some(), want.is_some(), "any-hit on {ray:?}");
         match (got, want) {
             (None, None) => {}
             (Some(got), Some((prim, hit))) => {

@@ -57,6 +57,33 @@ fn render_cli_writes_the_linear_film_beside_the_png_when_asked() {
     assert!(stderr_of(&wrong).contains("out.exr: --pfm must name a .pfm file"), "{}", stderr_of(&wrong));
 }
 
+/// `--accel wide` traces with the harness's wide BVH: the same closest hits as checkpoint 4's
+/// tree, so the same film, bit for bit, on a scene where no ray meets an edge two objects share
+/// (there either object is the closest hit, and the trees may pick differently).
+#[test]
+fn render_cli_traces_with_the_wide_bvh_when_asked() {
+    let dir = scratch("wide");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, scene_text(("", ""))).unwrap();
+    let film = |accel: &str| {
+        let (png, pfm) = (dir.join(format!("{accel}.png")), dir.join(format!("{accel}.pfm")));
+        let out = render(&[
+            scene.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--pfm",
+            pfm.to_str().unwrap(),
+            "--accel",
+            accel,
+        ]);
+        assert!(out.status.success(), "{}", stderr_of(&out));
+        raylab::image_io::read_pfm(&pfm).unwrap()
+    };
+    assert_eq!(film("wide"), film("bvh"));
+    let wrong = render(&[scene.to_str().unwrap(), "-o", "x.png", "--accel", "embree"]);
+    assert_eq!(wrong.status.code(), Some(2), "{}", stderr_of(&wrong));
+}
+
 /// Each broken scene: (what is replaced, by what, the line the error must name, a word of it).
 const BROKEN: &[(&str, &str, usize, &str)] = &[
     ("fov = 40", "fov = 40 40", 5, "camera"),

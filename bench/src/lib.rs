@@ -15,5 +15,5 @@ pub mod embree;
 
 pub use icosphere::{bumpy_icosphere, grid_size_for, write_obj};
 pub use memory::peak_memory_bytes;
-pub use trace::{trace, TraceReport};
+pub use trace::{trace, TraceReport, Tracer};
 pub use workload::Workload;

@@ -15,7 +15,7 @@
 //! modules (`fs`, `io`, `process`, `env`, `net`, `os`, `thread`, `ptr`...), the renderer's other
 //! crates (`tobj`, `rayon`, `png`...), `unsafe`, `extern`, `mod`, macro definitions, attributes but
 //! `allow`/`inline`/`doc`/`must_use`, `self::`/`super::` paths, and every name of the harness that
-//! a solution must not call ([`HARNESS_NAMES`]: the SAH split, render's stand-ins, the grader's
+//! a solution must not call ([`HARNESS_NAMES`]: the SAH split, the wide BVH, render's stand-ins, the grader's
 //! switch between student and solution code, file loading and writing).
 
 use proc_macro2::{Span, TokenStream};
@@ -99,7 +99,7 @@ pub fn student_modules(checkpoint: u32) -> &'static [&'static str] {
 }
 
 /// The renderer's dependencies other than glam: reachable by name in its code, never from a region.
-pub const OTHER_CRATES: &[&str] = &["clap", "png", "rayon", "serde", "thiserror", "tobj", "toml", "raylab"];
+pub const OTHER_CRATES: &[&str] = &["clap", "png", "rayon", "serde", "thiserror", "tobj", "toml", "wide", "raylab"];
 
 /// Names of the harness a region must not name in a path of two or more segments.
 pub const HARNESS_NAMES: &[&str] = &[
@@ -113,6 +113,10 @@ pub const HARNESS_NAMES: &[&str] = &[
     "normal_colour",
     "tracing_every_triangle",
     "Normals",
+    // The harness's wide BVH: fast, and not the student's traversal, boxes or triangle test.
+    "wide",
+    "WideBvh",
+    "collapse",
     // The grader's switch between a submission's code and the solution's (see `crate::splice`).
     "graded",
     // Reading and writing files, and rendering whole images.
@@ -516,6 +520,8 @@ mod tests {
             ("macro_rules! m { () => {} }", "macro definitions"),
             ("extern \"C\" { fn abort(); }", "extern"),
             ("let s = crate::geometry::bvh::sah::split(prims);", "sah"),
+            ("return crate::geometry::WideBvh::collapse(self).traverse(ray, any_hit, stats);", "WideBvh"),
+            ("let w = World::wide(world.scene());", "wide"),
             ("let s = Scene::load(path);", "load"),
             ("crate::fallback::closest_triangle(t, ray)", "fallback"),
             ("if crate::graded::student(2) { 1 } else { 2 }", "graded"),

@@ -139,14 +139,29 @@ impl Manifest {
     }
 }
 
+/// How a render in this process traces rays.
+pub type Tracing = for<'a> fn(&'a Scene) -> World<'a>;
+
+/// The reference solution's renders: no student code is judged, so the harness's fastest tracer
+/// (the same hits as checkpoint 4's tree, tested in `raylab::geometry::wide`).
+pub const REFERENCE_TRACING: Tracing = |scene| World::wide(scene);
+
+/// As a graded render traces: through checkpoint 4's binary tree.
+pub const GRADED_TRACING: Tracing = |scene| World::new(scene, SplitMethod::ObjectMedian);
+
 /// Renders a graded scene in this process at `spp` with `seed`.
-pub fn render_scene(root: &Path, scene: &GradedScene, spp: u32, seed: u64) -> Result<(Scene, Film), String> {
+pub fn render_scene(
+    root: &Path,
+    scene: &GradedScene,
+    spp: u32,
+    seed: u64,
+    tracing: Tracing,
+) -> Result<(Scene, Film), String> {
     let loaded = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?;
     let mut settings = loaded.settings;
     settings.spp = spp;
     settings.seed = seed;
-    let world = World::new(&loaded, SplitMethod::ObjectMedian);
-    let film = raylab::render::render(&world, &settings, &|_| {});
+    let film = raylab::render::render(&tracing(&loaded), &settings, &|_| {});
     Ok((loaded, film))
 }
 
@@ -157,7 +172,8 @@ fn render_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> R
     let mut expected = Vec::new();
     let mut average: Option<(Scene, Film)> = None;
     for r in 0..test.reference_renders {
-        let (loaded, film) = render_scene(root, scene, scene.reference_spp, expected_seed(r))?;
+        let (loaded, film) =
+            render_scene(root, scene, scene.reference_spp, expected_seed(r), REFERENCE_TRACING)?;
         expected.push(tile_means(&film, test.tile));
         let (_, sum) = average.get_or_insert_with(|| (loaded, Film::new(film.width(), film.height())));
         let n = test.reference_renders as f32;
@@ -166,7 +182,10 @@ fn render_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> R
     }
     let mut solution = Vec::new();
     for s in 0..test.solution_renders {
-        solution.push(tile_means(&render_scene(root, scene, scene.spp, solution_seed(s))?.1, test.tile));
+        solution.push(tile_means(
+            &render_scene(root, scene, scene.spp, solution_seed(s), REFERENCE_TRACING)?.1,
+            test.tile,
+        ));
     }
     let file =
         TileFile { tile: test.tile, reference_spp: scene.reference_spp, spp: scene.spp, expected, solution };
@@ -207,15 +226,16 @@ pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -
         progress.set_message(scene.name.clone());
         let start = Instant::now();
         let (loaded, film) = match &scene.tile_test {
-            None => render_scene(root, scene, scene.reference_spp, scene.seed)?,
+            None => render_scene(root, scene, scene.reference_spp, scene.seed, REFERENCE_TRACING)?,
             Some(test) => render_tile_reference(root, scene, test)?,
         };
         let render_seconds = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        render_scene(root, scene, scene.spp, scene.seed)?;
+        // Timed as the grader's renders trace, through checkpoint 4's tree.
+        render_scene(root, scene, scene.spp, scene.seed, GRADED_TRACING)?;
         let graded_render_seconds = start.elapsed().as_secs_f64();
         write_png(&image_path(root, scene), &film_to_image(&film)).map_err(|e| e.to_string())?;
-        let masks = Masks::render(&World::new(&loaded, SplitMethod::ObjectMedian));
+        let masks = Masks::render(&REFERENCE_TRACING(&loaded));
         write_png(&masks_path(root, scene), masks.image()).map_err(|e| e.to_string())?;
         manifest.references.push(ReferenceEntry {
             name: scene.name.clone(),

@@ -1,6 +1,8 @@
 //! `render SCENE.toml -o OUT.png [--pfm OUT.pfm]`: render a scene to an sRGB PNG, and its linear
 //! values to a PFM if asked (the grader's statistics of noisy renders read those).
 //!
+//! `--accel wide` traces with the harness's wide BVH instead of checkpoints 2-4 (`raylab::geometry::wide`).
+//!
 //! While a checkpoint is still the starter's `todo!()`, `render` draws with a stand-in and says
 //! so in one line (`raylab::fallback`); `--no-fallbacks` (what the grader runs) does not.
 //!
@@ -18,7 +20,7 @@ use std::time::Instant;
 use clap::Parser;
 use raylab::fallback::{stub_checkpoint, Fallbacks};
 use raylab::progress::Progress;
-use raylab::scene::Scene;
+use raylab::scene::{Scene, World};
 
 /// Render a raylab scene to a PNG image.
 #[derive(Parser)]
@@ -44,6 +46,16 @@ struct Args {
     /// Fail on a checkpoint that is still `todo!()` instead of drawing with a stand-in.
     #[arg(long)]
     no_fallbacks: bool,
+    /// How rays find triangles: `bvh` is your checkpoint 2-4 code; `wide` is the harness's
+    /// four-wide BVH (faster, and none of your code: what reference renders use).
+    #[arg(long, value_enum, default_value = "bvh")]
+    accel: Accel,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Accel {
+    Bvh,
+    Wide,
 }
 
 /// The last panic's message and place, kept by the panic hook for the one line printed.
@@ -105,7 +117,7 @@ fn run(args: Args) -> Result<(), (u8, String)> {
     let mut fallbacks = Fallbacks::default();
     let (film, spp) = loop {
         let attempt = catch_unwind(AssertUnwindSafe(|| {
-            let world = fallbacks.world(&scene);
+            let world = if args.accel == Accel::Wide { World::wide(&scene) } else { fallbacks.world(&scene) };
             let (integrator, settings) = fallbacks.integrator(&settings);
             let film = pool.install(|| {
                 raylab::render::render_with(&world, &settings, integrator, &|n| progress.advance(n))

@@ -1,4 +1,5 @@
-//! Geometry: triangles (checkpoint 2), boxes (checkpoint 3), the BVH (checkpoint 4), and meshes.
+//! Geometry: triangles (checkpoint 2), boxes (checkpoint 3), the BVH (checkpoint 4), meshes, and
+//! the harness's own wide BVH (no checkpoint: [`wide`]).
 //!
 //! Nothing here knows about materials or light: a query answers *where* a ray meets the scene,
 //! never what it looks like there.
@@ -7,8 +8,10 @@ mod aabb;
 pub mod bvh;
 mod mesh;
 mod triangle;
+pub mod wide;
 
 pub use aabb::Aabb;
 pub use bvh::{Bvh, BvhHit, SplitMethod, TraversalStats};
 pub use mesh::{transform_matrix, TriangleMesh};
 pub use triangle::{intersect_triangle, Triangle, TriangleHit};
+pub use wide::WideBvh;

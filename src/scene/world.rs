@@ -1,8 +1,12 @@
 //! A scene with its BVH: the two queries integrators ask, closest hit and occlusion.
+//!
+//! Rays go through checkpoint 4's binary BVH (the student's traversal, boxes and triangle test)
+//! unless the world was made with [`World::wide`]: the harness's wide BVH, for renders in which no
+//! student code is judged or shown (ARCHITECTURE.md, "Which tracer").
 
 use super::Scene;
 use crate::fallback::{any_triangle, closest_triangle};
-use crate::geometry::{Bvh, SplitMethod, TraversalStats};
+use crate::geometry::{Bvh, SplitMethod, TraversalStats, WideBvh};
 use crate::material::Material;
 use crate::math::{Ray, Vec3};
 
@@ -16,6 +20,8 @@ pub struct World<'a> {
 enum Tracer {
     /// Through the BVH (checkpoints 2 to 4).
     Bvh(Bvh),
+    /// Through the harness's wide BVH, collapsed from the SAH tree.
+    Wide(WideBvh),
     /// By testing every triangle: `render`'s stand-in while checkpoint 3 or 4 is unwritten
     /// ([`crate::fallback`]).
     EveryTriangle,
@@ -56,6 +62,13 @@ impl<'a> World<'a> {
         Self { scene, tracer: Tracer::Bvh(Bvh::build(&scene.triangles, method)) }
     }
 
+    /// With the harness's wide BVH (collapsed from a SAH tree): the fastest tracer, for renders
+    /// that judge no student code, such as the reference solution's references.
+    pub fn wide(scene: &'a Scene) -> Self {
+        let wide = WideBvh::collapse(&Bvh::build(&scene.triangles, SplitMethod::Sah));
+        Self { scene, tracer: Tracer::Wide(wide) }
+    }
+
     /// Without a BVH: every ray tests every triangle (`render`'s stand-in for checkpoints 3, 4).
     pub fn tracing_every_triangle(scene: &'a Scene) -> Self {
         Self { scene, tracer: Tracer::EveryTriangle }
@@ -70,6 +83,7 @@ impl<'a> World<'a> {
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit<'a>> {
         let hit = match &self.tracer {
             Tracer::Bvh(bvh) => bvh.intersect(ray, &mut TraversalStats::default()),
+            Tracer::Wide(wide) => wide.intersect(ray, &mut TraversalStats::default()),
             Tracer::EveryTriangle => closest_triangle(&self.scene.triangles, ray),
         }?;
         let triangle = &self.scene.triangles[hit.prim as usize];
@@ -89,6 +103,7 @@ impl<'a> World<'a> {
     pub fn occluded(&self, ray: &Ray) -> bool {
         match &self.tracer {
             Tracer::Bvh(bvh) => bvh.occluded(ray, &mut TraversalStats::default()),
+            Tracer::Wide(wide) => wide.occluded(ray, &mut TraversalStats::default()),
             Tracer::EveryTriangle => any_triangle(&self.scene.triangles, ray),
         }
     }

@@ -6,6 +6,8 @@
 //! raybench target/ico1m.obj --workload all --threads 2 --split median --peer embree
 //! ```
 //!
+//! Every workload is traced through the binary BVH (checkpoint 4's tree, split as `--split` says)
+//! and through the wide BVH collapsed from it (`raylab::geometry::wide`), one row each.
 //! The workloads are fixed (see `raylab_bench::Workload`) so any engine can trace the same rays.
 //! Each workload is traced `--repeat` times and the fastest pass is reported (the counts are the
 //! same every pass). Exit codes: 0 on success, 2 for bad input, with one line on standard error.
@@ -15,7 +17,7 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::{Parser, ValueEnum};
-use raylab::geometry::{Bvh, SplitMethod, Triangle, TriangleMesh};
+use raylab::geometry::{Bvh, SplitMethod, Triangle, TriangleMesh, WideBvh};
 use raylab_bench::{self as bench, Workload};
 
 /// Trace fixed ray workloads through a mesh's BVH and report speed and work per ray.
@@ -129,10 +131,20 @@ fn run(args: Args) -> Result<(), String> {
         bvh.nodes().len(),
         bvh.depth()
     );
+    let start = Instant::now();
+    let wide = WideBvh::collapse(&bvh);
+    let collapse_time = start.elapsed();
+    println!(
+        "collapse  wide, 4 children: {:.3} s ({:.3} s with the build), {} nodes, {} leaves",
+        secs(collapse_time),
+        secs(build_time + collapse_time),
+        wide.nodes().len(),
+        wide.packets().len()
+    );
     print_memory("after build");
-    let peer = Peers::new(args.peer, &mesh, args.threads as usize, build_time)?;
+    let peer = Peers::new(args.peer, &mesh, args.threads as usize, build_time + collapse_time)?;
 
-    println!("workload    rays      Mrays/s  box/ray  tri/ray  hits{}", peer.header());
+    println!("workload   tree        rays  Mrays/s  box/ray  tri/ray  hits{}", peer.header());
     let workloads = match args.workload {
         WorkloadArg::Primary => vec![Workload::Primary],
         WorkloadArg::Incoherent => vec![Workload::Incoherent],
@@ -142,17 +154,27 @@ fn run(args: Args) -> Result<(), String> {
     for workload in workloads {
         let rays = workload.rays();
         let pass = Pass { pool: &pool, rays: &rays, workload, repeat: args.repeat };
-        let best = &pass.raylab(&bvh);
-        println!(
-            "{:<10} {:>8} {:>8.2} {:>8.1} {:>8.1}  {}{}",
-            workload.to_string(),
-            best.rays,
-            best.mrays_per_second(),
-            best.box_tests_per_ray(),
-            best.triangle_tests_per_ray(),
-            best.hits,
-            peer.row(&pass, best)?,
-        );
+        let rows = [("binary", pass.best(&bvh)), ("wide", pass.best(&wide))];
+        if rows[0].1.hits != rows[1].1.hits {
+            return Err(format!(
+                "{workload}: the binary tree hit {} rays, the wide {}",
+                rows[0].1.hits, rows[1].1.hits
+            ));
+        }
+        let peer_mrays = peer.mrays(&pass, &rows[0].1)?;
+        for (tree, best) in &rows {
+            println!(
+                "{:<10} {tree:<6} {:>9} {:>8.2} {:>8.1} {:>8.1}  {}{}",
+                workload.to_string(),
+                best.rays,
+                best.mrays_per_second(),
+                best.box_tests_per_ray(),
+                best.triangle_tests_per_ray(),
+                best.hits,
+                peer_mrays
+                    .map_or(String::new(), |m| format!("  {m:>10.2}  {:>13.2}", best.mrays_per_second() / m)),
+            );
+        }
     }
     print_memory("at the end");
     Ok(())
@@ -185,7 +207,7 @@ impl Peers {
         let Some(Peer::Embree) = peer else { return Ok(Self { embree: None }) };
         let scene = bench::embree::EmbreeScene::new(mesh, threads)?;
         println!(
-            "peer      Embree build {:.3} s: raylab/Embree build time {:.2}",
+            "peer      Embree build {:.3} s: raylab (build + collapse) / Embree build time {:.2}",
             secs(scene.build_time),
             secs(raylab_build) / secs(scene.build_time)
         );
@@ -211,27 +233,26 @@ impl Peers {
         ""
     }
 
-    /// The peer's columns for one workload: its fastest pass and the throughput ratio.
+    /// The peer's throughput on one workload (its fastest pass), checked against raylab's hits.
     #[cfg(feature = "peer-embree")]
-    fn row(&self, pass: &Pass, raylab: &bench::TraceReport) -> Result<String, String> {
-        let Some(scene) = &self.embree else { return Ok(String::new()) };
+    fn mrays(&self, pass: &Pass, raylab: &bench::TraceReport) -> Result<Option<f64>, String> {
+        let Some(scene) = &self.embree else { return Ok(None) };
         let passes: Vec<_> = (0..pass.repeat)
             .map(|_| pass.pool.install(|| scene.trace(pass.rays, pass.workload.any_hit())))
             .collect();
         let (hits, time) = passes.into_iter().min_by_key(|p| p.1).expect("at least one pass");
-        let mrays = pass.rays.len() as f64 / secs(time) / 1e6;
         // Both engines must agree on what was hit, or the comparison means nothing. Rays grazing
         // an edge may differ; allow one in 10^4.
         if hits.abs_diff(raylab.hits) > pass.rays.len() / 10_000 {
             return Err(format!("Embree hit {hits} rays, raylab {}: the engines disagree", raylab.hits));
         }
-        Ok(format!("  {mrays:>10.2}  {:>13.2}", raylab.mrays_per_second() / mrays))
+        Ok(Some(pass.rays.len() as f64 / secs(time) / 1e6))
     }
 
     /// No peer is compiled in: no columns.
     #[cfg(not(feature = "peer-embree"))]
-    fn row(&self, _: &Pass, _: &bench::TraceReport) -> Result<String, String> {
-        Ok(String::new())
+    fn mrays(&self, _: &Pass, _: &bench::TraceReport) -> Result<Option<f64>, String> {
+        Ok(None)
     }
 }
 
@@ -244,10 +265,10 @@ struct Pass<'a> {
 }
 
 impl Pass<'_> {
-    /// raylab's fastest pass (the counts are the same in every pass).
-    fn raylab(&self, bvh: &Bvh) -> bench::TraceReport {
+    /// raylab's fastest pass through `tree` (the counts are the same in every pass).
+    fn best(&self, tree: &impl bench::Tracer) -> bench::TraceReport {
         let passes = (0..self.repeat)
-            .map(|_| self.pool.install(|| bench::trace(bvh, self.rays, self.workload.any_hit())));
+            .map(|_| self.pool.install(|| bench::trace(tree, self.rays, self.workload.any_hit())));
         passes.min_by_key(|r| r.time).expect("at least one pass")
     }
 }

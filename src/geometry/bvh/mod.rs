@@ -153,6 +153,12 @@ impl Bvh {
         &self.triangles
     }
 
+    /// The input index of each triangle of [`Bvh::triangles`]: `triangles()[i]` is the
+    /// `prim_ids()[i]`-th triangle given to [`Bvh::build`].
+    pub fn prim_ids(&self) -> &[u32] {
+        &self.prim_ids
+    }
+
     /// The length of the longest root-to-leaf path, counted in nodes (0 for an empty tree).
     pub fn depth(&self) -> usize {
         fn depth_below(nodes: &[Node], i: usize) -> usize {

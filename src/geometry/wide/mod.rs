@@ -1,0 +1,277 @@
+//! A four-wide BVH collapsed from a binary one: the harness's fast tracer, never a student task.
+//!
+//! **Why.** A binary node's box test is a handful of instructions spent waiting for the node to
+//! arrive from memory. A node with four children tests all four boxes in one pass of four-lane
+//! SIMD (SSE on x86-64, NEON on aarch64), so a ray visits about half as many nodes, each doing
+//! four tests for the cost of one. Leaves hold up to four triangles lane by lane ([`Packet`]), one
+//! SIMD Möller-Trumbore for all of them. Four lanes because that is what every 64-bit CPU has
+//! without runtime feature detection; eight (AVX) would need two code paths.
+//!
+//! **Construction: collapsing.** Start from a binary tree (checkpoint 4's, however it was split:
+//! the SAH tree is the fast one). A wide node takes its binary node's two children, then, while it
+//! has fewer than four and one of them is interior, replaces the interior child of largest surface
+//! area by that child's two children (large boxes are the ones rays meet most, so they are the
+//! ones worth opening early). Leaves stay the binary tree's leaves. Every box of the wide tree is a
+//! box of the binary tree, so a ray meets exactly the same boxes in both.
+//!
+//! **Layout.** Nodes are stored depth first, root first, each 128 bytes (two cache lines): the four
+//! children's boxes coordinate by coordinate, then four child links. An empty slot has the empty
+//! box, which no ray meets.
+//!
+//! **Where it is used** (ARCHITECTURE.md): only where no student code is judged or shown:
+//! `raybench`, the instructor's reference renders (`grader update-references`), and
+//! `render --accel wide` when asked for. A student's renders and every graded render trace through
+//! the student's own [`crate::geometry::Bvh::traverse`]; solution regions may not name this module
+//! (the grader's allow list).
+
+mod packet;
+mod traverse;
+
+pub use packet::{Packet, LANES};
+
+use super::bvh::NodeView;
+use super::{Aabb, Bvh};
+
+/// What a wide node's child slot holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Child {
+    /// Nothing: the slot's box is empty.
+    Empty,
+    /// The wide node at this index.
+    Node(u32),
+    /// The packet (leaf) at this index, and how many triangles it holds.
+    Leaf {
+        /// Index into [`WideBvh::packets`].
+        packet: u32,
+        /// Triangles in it, 1 to [`LANES`].
+        triangles: u32,
+    },
+}
+
+/// A child link as stored: a node's index, or [`LEAF`] with the triangle count in the next
+/// three bits and the packet's index below, or `u32::MAX` for an empty slot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Link(u32);
+
+const LEAF: u32 = 1 << 31;
+const COUNT_SHIFT: u32 = 28;
+const INDEX_MASK: u32 = (1 << COUNT_SHIFT) - 1;
+
+impl Link {
+    const EMPTY: Link = Link(u32::MAX);
+
+    fn new(child: Child) -> Self {
+        match child {
+            Child::Empty => Self::EMPTY,
+            Child::Node(i) => {
+                assert!(i < LEAF, "too many nodes");
+                Self(i)
+            }
+            Child::Leaf { packet, triangles } => {
+                assert!(packet <= INDEX_MASK && (1..=LANES as u32).contains(&triangles), "too many packets");
+                Self(LEAF | triangles << COUNT_SHIFT | packet)
+            }
+        }
+    }
+
+    #[inline]
+    fn child(self) -> Child {
+        match self.0 {
+            u32::MAX => Child::Empty,
+            i if i & LEAF != 0 => {
+                Child::Leaf { packet: i & INDEX_MASK, triangles: (i & !LEAF) >> COUNT_SHIFT }
+            }
+            i => Child::Node(i),
+        }
+    }
+}
+
+/// One node: its children's boxes, coordinate by coordinate, and their links.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+pub struct WideNode {
+    /// `min[axis][slot]`: the lower corner of each child's box.
+    min: [[f32; LANES]; 3],
+    /// `max[axis][slot]`: the upper corner.
+    max: [[f32; LANES]; 3],
+    links: [Link; LANES],
+    /// Slots in use (the first `used`; the rest are empty).
+    used: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<WideNode>() == 128);
+
+impl WideNode {
+    /// The box of child `slot`.
+    pub fn bounds(&self, slot: usize) -> Aabb {
+        let corner = |c: &[[f32; LANES]; 3]| crate::math::Vec3::new(c[0][slot], c[1][slot], c[2][slot]);
+        Aabb { min: corner(&self.min), max: corner(&self.max) }
+    }
+
+    /// What child `slot` is.
+    pub fn child(&self, slot: usize) -> Child {
+        self.links[slot].child()
+    }
+}
+
+/// A four-wide BVH over the triangles of a binary [`Bvh`].
+#[derive(Clone, Debug)]
+pub struct WideBvh {
+    nodes: Vec<WideNode>,
+    packets: Vec<Packet>,
+}
+
+impl WideBvh {
+    /// Collapses `bvh` (module docs). The wide tree finds the same hits as `bvh` does.
+    pub fn collapse(bvh: &Bvh) -> Self {
+        let mut wide = Self { nodes: Vec::new(), packets: Vec::new() };
+        if !bvh.nodes().is_empty() {
+            wide.add_node(bvh, 0);
+        }
+        wide
+    }
+
+    /// The nodes, root first (none for a tree over no triangles).
+    pub fn nodes(&self) -> &[WideNode] {
+        &self.nodes
+    }
+
+    /// The leaves.
+    pub fn packets(&self) -> &[Packet] {
+        &self.packets
+    }
+
+    /// Appends the wide node standing for binary node `root`, and returns its index.
+    fn add_node(&mut self, bvh: &Bvh, root: usize) -> u32 {
+        let binary = bvh.nodes();
+        let children = |i: usize| match binary[i].view() {
+            NodeView::Interior { second_child, .. } => Some([i + 1, second_child as usize]),
+            NodeView::Leaf { .. } => None,
+        };
+        // The binary nodes this wide node's slots stand for.
+        let mut slots = children(root).map_or(vec![root], Vec::from);
+        while slots.len() < LANES {
+            let widest = slots
+                .iter()
+                .enumerate()
+                .filter(|(_, &i)| children(i).is_some())
+                .max_by(|(a, &i), (b, &j)| {
+                    binary[i].bounds().half_area().total_cmp(&binary[j].bounds().half_area()).then(b.cmp(a))
+                })
+                .map(|(slot, _)| slot);
+            let Some(slot) = widest else { break };
+            let [first, second] = children(slots[slot]).expect("interior");
+            slots.splice(slot..=slot, [first, second]);
+        }
+        let index = self.nodes.len();
+        self.nodes.push(WideNode {
+            min: [[f32::INFINITY; LANES]; 3],
+            max: [[f32::NEG_INFINITY; LANES]; 3],
+            links: [Link::EMPTY; LANES],
+            used: slots.len() as u32,
+        });
+        for (slot, &i) in slots.iter().enumerate() {
+            let child = match binary[i].view() {
+                NodeView::Leaf { first, count } => {
+                    let range = first as usize..(first + count) as usize;
+                    let triangles: Vec<_> = range.map(|t| (bvh.prim_ids()[t], bvh.triangles()[t])).collect();
+                    self.packets.push(Packet::new(&triangles));
+                    Child::Leaf { packet: self.packets.len() as u32 - 1, triangles: count }
+                }
+                NodeView::Interior { .. } => Child::Node(self.add_node(bvh, i)),
+            };
+            let node = &mut self.nodes[index];
+            let bounds = binary[i].bounds();
+            for axis in 0..3 {
+                node.min[axis][slot] = bounds.min[axis];
+                node.max[axis][slot] = bounds.max[axis];
+            }
+            node.links[slot] = Link::new(child);
+        }
+        index as u32
+    }
+
+    /// Checks the structure against the binary tree it was collapsed from: every binary leaf is
+    /// one packet with the same triangles, every box contains its triangles, every node but a
+    /// one-leaf root has at least two children, and a node with fewer than four has leaves only
+    /// (collapsing stops early only when nothing is left to open). The error names the first node
+    /// that breaks one.
+    pub fn validate(&self, bvh: &Bvh) -> Result<(), String> {
+        let mut seen = vec![false; bvh.triangles().len()];
+        for (n, node) in self.nodes.iter().enumerate() {
+            let used = (0..LANES).filter(|&s| node.child(s) != Child::Empty).count();
+            if used != node.used as usize || (0..used).any(|s| node.child(s) == Child::Empty) {
+                return Err(format!("node {n} does not use its first {} slots", node.used));
+            }
+            if used < 2 && !(n == 0 && self.nodes.len() == 1) {
+                return Err(format!("node {n} has {used} children"));
+            }
+            if used < LANES && (0..LANES).any(|s| matches!(node.child(s), Child::Node(_))) {
+                return Err(format!("node {n} has {used} children, one of them interior"));
+            }
+            for slot in 0..LANES {
+                match node.child(slot) {
+                    Child::Empty => {
+                        if node.bounds(slot) != Aabb::EMPTY {
+                            return Err(format!("node {n} slot {slot}: empty slot with a box"));
+                        }
+                    }
+                    Child::Node(c) if c as usize <= n || c as usize >= self.nodes.len() => {
+                        return Err(format!("node {n} slot {slot}: child {c} is not after it"));
+                    }
+                    Child::Node(_) => {}
+                    Child::Leaf { packet: p, triangles } => {
+                        let packet =
+                            self.packets.get(p as usize).ok_or(format!("node {n}: no packet {p}"))?;
+                        if packet.prims().count() != triangles as usize {
+                            return Err(format!(
+                                "node {n} slot {slot}: packet {p} does not hold {triangles}"
+                            ));
+                        }
+                        for prim in packet.prims() {
+                            let t =
+                                bvh.prim_ids().iter().position(|&id| id == prim).ok_or("unknown triangle")?;
+                            if std::mem::replace(&mut seen[t], true) {
+                                return Err(format!("triangle {prim} is in two packets"));
+                            }
+                            if !node.bounds(slot).contains(&bvh.triangles()[t].bounds()) {
+                                return Err(format!("node {n} slot {slot} does not contain triangle {prim}"));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        match seen.iter().position(|s| !s) {
+            Some(t) => Err(format!("triangle {} is in no packet", bvh.prim_ids()[t])),
+            None => Ok(()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::SplitMethod;
+    use crate::test_fixtures::random_and_awkward_meshes;
+
+    #[test]
+    fn collapsed_trees_are_valid() {
+        for triangles in &random_and_awkward_meshes(21) {
+            for method in [SplitMethod::ObjectMedian, SplitMethod::Sah] {
+                let bvh = Bvh::build(triangles, method);
+                let wide = WideBvh::collapse(&bvh);
+                wide.validate(&bvh)
+                    .unwrap_or_else(|e| panic!("{} triangles, {method:?}: {e}", triangles.len()));
+                let leaves = bvh.nodes().iter().filter(|n| matches!(n.view(), NodeView::Leaf { .. })).count();
+                assert_eq!(wide.packets().len(), leaves);
+                // Each node stands for one to three of the binary tree's L - 1 interior nodes.
+                assert!(
+                    wide.nodes().len() < leaves.max(2),
+                    "{} nodes, {leaves} leaves",
+                    wide.nodes().len()
+                );
+            }
+        }
+    }
+}
