@@ -266,11 +266,7 @@ mod tests {
                 let leaves = bvh.nodes().iter().filter(|n| matches!(n.view(), NodeView::Leaf { .. })).count();
                 assert_eq!(wide.packets().len(), leaves);
                 // Each node stands for one to three of the binary tree's L - 1 interior nodes.
-                assert!(
-                    wide.nodes().len() < leaves.max(2),
-                    "{} nodes, {leaves} leaves",
-                    wide.nodes().len()
-                );
+                assert!(wide.nodes().len() < leaves.max(2), "{} nodes, {leaves} leaves", wide.nodes().len());
             }
         }
     }

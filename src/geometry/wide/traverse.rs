@@ -121,28 +121,27 @@ impl WideBvh {
                     let node = &self.nodes[n as usize];
                     stats.box_tests += node.used as u64;
                     let (mask, t_ins) = lanes.boxes(node, ray.t_max);
-                    // The children met, sorted by entry distance, farthest first: the nearest
-                    // is visited next, the others wait on the stack.
-                    let mut met = [(Link::EMPTY, 0.0f32); LANES];
-                    let mut count = 0;
+                    // The children met go on the stack sorted by entry distance, farthest
+                    // first; the last, the nearest, is taken off again and visited next. (Shadow
+                    // rays too: unsorted, they tested 8% more boxes on raybench's shadow rays.)
+                    let base = len;
                     // Empty slots are never met: the mask holds children only.
                     let mut bits = mask as u32;
                     while bits != 0 {
                         let slot = bits.trailing_zeros() as usize;
                         bits &= bits - 1;
                         let entry = (node.links[slot], t_ins[slot]);
-                        let mut i = count;
-                        while i > 0 && met[i - 1].1 < entry.1 {
-                            met[i] = met[i - 1];
+                        let mut i = len;
+                        while i > base && stack[i - 1].1 < entry.1 {
+                            stack[i] = stack[i - 1];
                             i -= 1;
                         }
-                        met[i] = entry;
-                        count += 1;
+                        stack[i] = entry;
+                        len += 1;
                     }
-                    if count > 0 {
-                        stack[len..len + count - 1].copy_from_slice(&met[..count - 1]);
-                        len += count - 1;
-                        next = met[count - 1].0;
+                    if len > base {
+                        len -= 1;
+                        next = stack[len].0;
                         continue;
                     }
                 }
