@@ -1,7 +1,8 @@
-//! BVH build and traversal on the bumpy icosphere, one thread, for both splits; with
+//! BVH build and traversal on the bumpy icosphere, one thread, for both splits and the wide tree
+//! collapsed from the SAH one; with
 //! `--features peer-embree`, Embree on the same mesh and rays, and the raylab/Embree ratios.
 //!
-//! - build: 100k and 1M triangles, SAH and object median.
+//! - build: 100k and 1M triangles, SAH and object median; collapsing the SAH tree to the wide one.
 //! - traverse: the primary, incoherent and shadow workloads (`raylab_bench::Workload`, 2^20
 //!   rays each) on the 1M-triangle mesh.
 //!
@@ -10,7 +11,7 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use raylab::geometry::{Bvh, SplitMethod, Triangle, TriangleMesh};
+use raylab::geometry::{Bvh, SplitMethod, Triangle, TriangleMesh, WideBvh};
 use raylab_bench::{bumpy_icosphere, grid_size_for, trace, Workload};
 
 const SPLITS: [(SplitMethod, &str); 2] = [(SplitMethod::Sah, "sah"), (SplitMethod::ObjectMedian, "median")];
@@ -30,6 +31,10 @@ fn build(c: &mut Criterion, one_thread: &rayon::ThreadPool) {
                 b.iter(|| one_thread.install(|| Bvh::build(black_box(t), method)))
             });
         }
+        let sah = Bvh::build(&triangles, SplitMethod::Sah);
+        group.bench_function(BenchmarkId::new("collapse sah to wide", label), |b| {
+            b.iter(|| WideBvh::collapse(black_box(&sah)))
+        });
         #[cfg(feature = "peer-embree")]
         {
             let mesh = mesh(size);
@@ -45,6 +50,7 @@ fn traverse(c: &mut Criterion, one_thread: &rayon::ThreadPool) {
     let mesh = mesh(1_000_000);
     let triangles: Vec<Triangle> = mesh.triangles().collect();
     let trees = SPLITS.map(|(method, name)| (name, Bvh::build(&triangles, method)));
+    let wide = WideBvh::collapse(&trees[0].1);
     #[cfg(feature = "peer-embree")]
     let embree = raylab_bench::embree::EmbreeScene::new(&mesh, 1).expect("Embree builds");
     let mut group = c.benchmark_group("traverse 1M");
@@ -57,6 +63,9 @@ fn traverse(c: &mut Criterion, one_thread: &rayon::ThreadPool) {
                 b.iter(|| one_thread.install(|| trace(bvh, &rays, workload.any_hit()).hits))
             });
         }
+        group.bench_function(BenchmarkId::new("wide", workload), |b| {
+            b.iter(|| one_thread.install(|| trace(&wide, &rays, workload.any_hit()).hits))
+        });
         #[cfg(feature = "peer-embree")]
         group.bench_function(BenchmarkId::new("embree", workload), |b| {
             b.iter(|| one_thread.install(|| embree.trace(&rays, workload.any_hit()).0))
@@ -94,6 +103,17 @@ mod ratios {
         let embree_build = fastest(|| EmbreeScene::new(&mesh, 1).expect("Embree builds").build_time);
         let embree = EmbreeScene::new(&mesh, 1).expect("Embree builds");
         println!("\nraylab/Embree, 1 thread, 1M triangles (time ratio for build, throughput ratio for rays)");
+        let row =
+            |name: &str, build: Duration, tree: &(dyn Fn(&[raylab::math::Ray], bool) -> Duration + Sync)| {
+                print!("  {name:<6} build time {:.2}", build.as_secs_f64() / embree_build.as_secs_f64());
+                for workload in Workload::ALL {
+                    let rays = workload.rays();
+                    let ours = fastest(|| one_thread.install(|| tree(&rays, workload.any_hit())));
+                    let theirs = fastest(|| one_thread.install(|| embree.trace(&rays, workload.any_hit()).1));
+                    print!("  {workload} {:.2}", theirs.as_secs_f64() / ours.as_secs_f64());
+                }
+                println!();
+            };
         for (method, name) in SPLITS {
             let build = fastest(|| {
                 let start = Instant::now();
@@ -101,14 +121,15 @@ mod ratios {
                 start.elapsed()
             });
             let bvh = Bvh::build(&triangles, method);
-            print!("  {name:<6} build time {:.2}", build.as_secs_f64() / embree_build.as_secs_f64());
-            for workload in Workload::ALL {
-                let rays = workload.rays();
-                let ours = fastest(|| one_thread.install(|| trace(&bvh, &rays, workload.any_hit()).time));
-                let theirs = fastest(|| one_thread.install(|| embree.trace(&rays, workload.any_hit()).1));
-                print!("  {workload} {:.2}", theirs.as_secs_f64() / ours.as_secs_f64());
-            }
-            println!();
+            row(name, build, &|rays, any_hit| trace(&bvh, rays, any_hit).time);
         }
+        // The wide tree's build is the SAH build and the collapse.
+        let build = fastest(|| {
+            let start = Instant::now();
+            black_box(WideBvh::collapse(&one_thread.install(|| Bvh::build(&triangles, SplitMethod::Sah))));
+            start.elapsed()
+        });
+        let wide = WideBvh::collapse(&Bvh::build(&triangles, SplitMethod::Sah));
+        row("wide", build, &|rays, any_hit| trace(&wide, rays, any_hit).time);
     }
 }
