@@ -47,7 +47,7 @@ struct Args {
     #[arg(long)]
     no_fallbacks: bool,
     /// How rays find triangles: `bvh` is your checkpoint 2-4 code; `wide` is the harness's
-    /// four-wide BVH (faster, and none of your code: what reference renders use).
+    /// eight-wide BVH (faster, and none of your code: what reference renders use).
     #[arg(long, value_enum, default_value = "bvh")]
     accel: Accel,
 }

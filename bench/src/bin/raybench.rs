@@ -135,7 +135,8 @@ fn run(args: Args) -> Result<(), String> {
     let wide = WideBvh::collapse(&bvh);
     let collapse_time = start.elapsed();
     println!(
-        "collapse  wide, 4 children: {:.3} s ({:.3} s with the build), {} nodes, {} leaves",
+        "collapse  wide, {} children: {:.3} s ({:.3} s with the build), {} nodes, {} leaves",
+        raylab::geometry::wide::WIDTH,
         secs(collapse_time),
         secs(build_time + collapse_time),
         wide.nodes().len(),

@@ -19,7 +19,7 @@ use wide::{f32x4, CmpGe, CmpGt, CmpLe, CmpLt, CmpNe};
 use crate::geometry::{Triangle, TriangleHit};
 use crate::math::Ray;
 
-/// Lanes per packet, and children per wide node.
+/// Lanes per packet: triangles per leaf.
 pub const LANES: usize = 4;
 
 /// `|det|` at most this fraction of `|e1 × e2|` counts as a ray grazing the triangle's plane:

@@ -1,6 +1,6 @@
-//! Tracing a ray through the wide BVH: four box tests at once, nearest child first.
+//! Tracing a ray through the wide BVH: eight box tests at once, nearest child first.
 //!
-//! **Box test.** The slab test of checkpoint 3, lane by lane over a node's four children: per axis
+//! **Box test.** The slab test of checkpoint 3, lane by lane over a node's eight children: per axis
 //! the near and far plane distances `(plane − o) · inv_dir` (the near plane is `max` when the ray
 //! travels toward decreasing coordinates), `t_in` raised and `t_out` lowered only by comparisons
 //! that are false for NaN, as the scalar test does, so a lane's answer is the scalar answer.
@@ -10,51 +10,51 @@
 //! shrunk `t_max` below its `t_in` is skipped without a test (its box test would now fail: the
 //! box was met on `[t_in, t_out]` and the range is now `[t_min, t_max]` with `t_max < t_in`).
 
-use wide::{f32x4, CmpLe};
+use wide::{f32x8, CmpLe};
 #[cfg(not(target_arch = "x86_64"))]
 use wide::{CmpGt, CmpLt};
 
-use super::{Child, Link, WideBvh, WideNode, LANES};
+use super::{Child, Link, WideBvh, WideNode, WIDTH};
 use crate::geometry::{BvhHit, TraversalStats};
 use crate::math::Ray;
 
 /// Entries the stack can hold: a node pushes at most `LANES − 1` more than it pops, and the tree
 /// is no deeper than the binary tree's [`crate::geometry::bvh::MAX_DEPTH`].
-const STACK: usize = (LANES - 1) * crate::geometry::bvh::MAX_DEPTH + 1;
+const STACK: usize = (WIDTH - 1) * crate::geometry::bvh::MAX_DEPTH + 1;
 
 /// A ray spread over the lanes, ready for box tests.
 struct RayLanes {
-    origin: [f32x4; 3],
-    inv_dir: [f32x4; 3],
+    origin: [f32x8; 3],
+    inv_dir: [f32x8; 3],
     /// Per axis, whether the ray travels toward decreasing coordinates (`inv_dir < 0`).
     negative: [bool; 3],
-    t_min: f32x4,
+    t_min: f32x8,
 }
 
 impl RayLanes {
     fn new(ray: &Ray) -> Self {
         Self {
-            origin: ray.origin.to_array().map(f32x4::splat),
-            inv_dir: ray.inv_dir.to_array().map(f32x4::splat),
+            origin: ray.origin.to_array().map(f32x8::splat),
+            inv_dir: ray.inv_dir.to_array().map(f32x8::splat),
             negative: ray.inv_dir.to_array().map(|i| i < 0.0),
-            t_min: f32x4::splat(ray.t_min),
+            t_min: f32x8::splat(ray.t_min),
         }
     }
 
     /// Which of `node`'s children's boxes the ray meets within `[t_min, t_max]` (bit `slot` of
     /// the mask), and where it enters each.
     #[inline]
-    fn boxes(&self, node: &WideNode, t_max: f32) -> (i32, [f32; LANES]) {
+    fn boxes(&self, node: &WideNode, t_max: f32) -> (i32, [f32; WIDTH]) {
         let mut t_in = self.t_min;
-        let mut t_out = f32x4::splat(t_max);
+        let mut t_out = f32x8::splat(t_max);
         for axis in 0..3 {
             let (near, far) = if self.negative[axis] {
                 (node.max[axis], node.min[axis])
             } else {
                 (node.min[axis], node.max[axis])
             };
-            let near = (f32x4::from(near) - self.origin[axis]) * self.inv_dir[axis];
-            let far = (f32x4::from(far) - self.origin[axis]) * self.inv_dir[axis];
+            let near = (f32x8::from(near) - self.origin[axis]) * self.inv_dir[axis];
+            let far = (f32x8::from(far) - self.origin[axis]) * self.inv_dir[axis];
             t_in = raise(near, t_in);
             t_out = lower(far, t_out);
         }
@@ -64,7 +64,7 @@ impl RayLanes {
 
 /// `if a > b { a } else { b }` lane by lane: a NaN `a` leaves `b`, as in the scalar slab test.
 #[inline]
-fn raise(a: f32x4, b: f32x4) -> f32x4 {
+fn raise(a: f32x8, b: f32x8) -> f32x8 {
     // MAXPS is defined as exactly this (Intel SDM: `src1 > src2 ? src1 : src2`), in one
     // instruction; elsewhere (NEON's max returns NaN) compare and blend.
     #[cfg(target_arch = "x86_64")]
@@ -75,7 +75,7 @@ fn raise(a: f32x4, b: f32x4) -> f32x4 {
 
 /// `if a < b { a } else { b }` lane by lane: a NaN `a` leaves `b` (MINPS, as [`raise`]).
 #[inline]
-fn lower(a: f32x4, b: f32x4) -> f32x4 {
+fn lower(a: f32x8, b: f32x8) -> f32x8 {
     #[cfg(target_arch = "x86_64")]
     return a.fast_min(b);
     #[cfg(not(target_arch = "x86_64"))]
