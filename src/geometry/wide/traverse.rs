@@ -1,86 +1,21 @@
 //! Tracing a ray through the wide BVH: eight box tests at once, nearest child first.
 //!
-//! **Box test.** The slab test of checkpoint 3, lane by lane over a node's eight children: per axis
-//! the near and far plane distances `(plane − o) · inv_dir` (the near plane is `max` when the ray
-//! travels toward decreasing coordinates), `t_in` raised and `t_out` lowered only by comparisons
-//! that are false for NaN, as the scalar test does, so a lane's answer is the scalar answer.
+//! **Box test.** All eight children's boxes at once ([`super::boxes`]), with AVX2 where the CPU has
+//! it (checked once per process by `std`), else two four-lane halves.
 //!
 //! **Order.** Children whose boxes the ray meets are pushed on the stack farthest first, each with
 //! its entry distance `t_in`, so the nearest is visited next; an entry popped after a hit has
 //! shrunk `t_max` below its `t_in` is skipped without a test (its box test would now fail: the
 //! box was met on `[t_in, t_out]` and the range is now `[t_min, t_max]` with `t_max < t_in`).
 
-use wide::{f32x8, CmpLe};
-#[cfg(not(target_arch = "x86_64"))]
-use wide::{CmpGt, CmpLt};
-
-use super::{Child, Link, WideBvh, WideNode, WIDTH};
+use super::boxes::{BoxTest, Portable};
+use super::{Child, Link, WideBvh, WIDTH};
 use crate::geometry::{BvhHit, TraversalStats};
 use crate::math::Ray;
 
 /// Entries the stack can hold: a node pushes at most `LANES − 1` more than it pops, and the tree
 /// is no deeper than the binary tree's [`crate::geometry::bvh::MAX_DEPTH`].
 const STACK: usize = (WIDTH - 1) * crate::geometry::bvh::MAX_DEPTH + 1;
-
-/// A ray spread over the lanes, ready for box tests.
-struct RayLanes {
-    origin: [f32x8; 3],
-    inv_dir: [f32x8; 3],
-    /// Per axis, whether the ray travels toward decreasing coordinates (`inv_dir < 0`).
-    negative: [bool; 3],
-    t_min: f32x8,
-}
-
-impl RayLanes {
-    fn new(ray: &Ray) -> Self {
-        Self {
-            origin: ray.origin.to_array().map(f32x8::splat),
-            inv_dir: ray.inv_dir.to_array().map(f32x8::splat),
-            negative: ray.inv_dir.to_array().map(|i| i < 0.0),
-            t_min: f32x8::splat(ray.t_min),
-        }
-    }
-
-    /// Which of `node`'s children's boxes the ray meets within `[t_min, t_max]` (bit `slot` of
-    /// the mask), and where it enters each.
-    #[inline]
-    fn boxes(&self, node: &WideNode, t_max: f32) -> (i32, [f32; WIDTH]) {
-        let mut t_in = self.t_min;
-        let mut t_out = f32x8::splat(t_max);
-        for axis in 0..3 {
-            let (near, far) = if self.negative[axis] {
-                (node.max[axis], node.min[axis])
-            } else {
-                (node.min[axis], node.max[axis])
-            };
-            let near = (f32x8::from(near) - self.origin[axis]) * self.inv_dir[axis];
-            let far = (f32x8::from(far) - self.origin[axis]) * self.inv_dir[axis];
-            t_in = raise(near, t_in);
-            t_out = lower(far, t_out);
-        }
-        (t_in.cmp_le(t_out).move_mask(), t_in.to_array())
-    }
-}
-
-/// `if a > b { a } else { b }` lane by lane: a NaN `a` leaves `b`, as in the scalar slab test.
-#[inline]
-fn raise(a: f32x8, b: f32x8) -> f32x8 {
-    // MAXPS is defined as exactly this (Intel SDM: `src1 > src2 ? src1 : src2`), in one
-    // instruction; elsewhere (NEON's max returns NaN) compare and blend.
-    #[cfg(target_arch = "x86_64")]
-    return a.fast_max(b);
-    #[cfg(not(target_arch = "x86_64"))]
-    return a.cmp_gt(b).blend(a, b);
-}
-
-/// `if a < b { a } else { b }` lane by lane: a NaN `a` leaves `b` (MINPS, as [`raise`]).
-#[inline]
-fn lower(a: f32x8, b: f32x8) -> f32x8 {
-    #[cfg(target_arch = "x86_64")]
-    return a.fast_min(b);
-    #[cfg(not(target_arch = "x86_64"))]
-    return a.cmp_lt(b).blend(a, b);
-}
 
 impl WideBvh {
     /// The closest hit of `ray` in its range, or `None`.
@@ -96,11 +31,37 @@ impl WideBvh {
     /// The closest hit of `ray`, or with `any_hit` the first hit found, as
     /// [`crate::geometry::Bvh::traverse`] answers; counts box and triangle tests in `stats`.
     pub fn traverse(&self, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -> Option<BvhHit> {
+        #[cfg(target_arch = "x86_64")]
+        if self.use_avx2 {
+            // SAFETY: `use_avx2` is set only where the CPU has AVX2 (`WideBvh::collapse`).
+            return unsafe { self.traverse_avx2(ray, any_hit, stats) };
+        }
+        self.traverse_with::<Portable>(ray, any_hit, stats)
+    }
+
+    /// [`WideBvh::traverse`] compiled for AVX2, boxes tested by [`super::boxes::Avx2`].
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn traverse_avx2(&self, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -> Option<BvhHit> {
+        self.traverse_with::<super::boxes::Avx2>(ray, any_hit, stats)
+    }
+
+    /// The traversal, with the box tests of `B`.
+    #[inline(always)]
+    fn traverse_with<B: BoxTest>(
+        &self,
+        ray: &Ray,
+        any_hit: bool,
+        stats: &mut TraversalStats,
+    ) -> Option<BvhHit> {
         if self.nodes.is_empty() {
             return None;
         }
         let mut ray = *ray;
-        let lanes = RayLanes::new(&ray);
+        let lanes = B::new(&ray);
         let mut closest = None;
         let mut stack = [(Link::EMPTY, 0.0f32); STACK];
         let mut len = 0;
@@ -208,6 +169,25 @@ mod tests {
             assert_eq!(bvh.occluded(&ray, &mut binary_stats), wide.occluded(&ray, &mut wide_stats));
         }
         assert!(wide_stats.box_tests < 2 * binary_stats.box_tests, "{wide_stats:?} vs {binary_stats:?}");
+    }
+
+    /// The portable box tests give the same answers as the AVX2 ones this CPU may trace with:
+    /// brute force on the awkward meshes (rays in slab planes, NaN in the slab test), and the
+    /// same hits as the dispatching traversal on random ones.
+    #[test]
+    fn the_portable_box_tests_agree_with_whatever_the_cpu_uses() {
+        let mut rng = Rng::new(44, 0);
+        let mut meshes = awkward_meshes();
+        meshes.push(random_mesh(&mut rng, 1000));
+        for triangles in &meshes {
+            let wide = WideBvh::collapse(&Bvh::build(triangles, SplitMethod::Sah));
+            let mut stats = TraversalStats::default();
+            check_tracer_against_brute_force(triangles, 2_000, &mut rng, |ray, any_hit| {
+                let portable = wide.traverse_with::<Portable>(ray, any_hit, &mut stats);
+                assert_eq!(portable, wide.traverse(ray, any_hit, &mut stats), "{ray:?}");
+                portable
+            });
+        }
     }
 
     #[test]
