@@ -102,7 +102,9 @@ pub fn run_all(root: &Path, sweep: Option<Sweep>, progress: &ProgressBar) -> Res
         let scenes = scenes_of(&variant);
         for seed in seeds_of(&variant) {
             progress.set_message(format!("grading {}", variant.name));
-            let values = grade_images(&tree, &target, seed, scenes.clone());
+            // A variant of checkpoint 5 or later has checkpoints 2-4 as the solution's: its noisy
+            // renders may take the wide BVH (ARCHITECTURE.md, "Which tracer").
+            let values = grade_images(&tree, &target, seed, scenes.clone(), variant.checkpoint >= 5);
             runs.push(Run { variant: variant.clone(), seed, values });
             progress.inc(1);
         }
@@ -111,19 +113,22 @@ pub fn run_all(root: &Path, sweep: Option<Sweep>, progress: &ProgressBar) -> Res
 }
 
 /// Grades the images of the tree at `tree` (its renderer built into `target`): every check's
-/// value, per scene (the `scenes` named, or all). `Err` for bad input (a broken rubric or
-/// reference), not for a broken tree.
+/// value, per scene (the `scenes` named, or all), the tile-tested scenes through the wide BVH if
+/// `wide_tile_renders` (for trees whose checkpoints 2-4 are the solution's). `Err` for bad input
+/// (a broken rubric or reference), not for a broken tree.
 pub fn grade_images(
     tree: &Path,
     target: &Path,
     seed: Option<u64>,
     scenes: Option<Vec<String>>,
+    wide_tile_renders: bool,
 ) -> Result<Value, String> {
     let options = GradeOptions {
         target: Some(target.to_path_buf()),
         run_tests: false,
         seed,
         scenes,
+        wide_tile_renders,
         ..GradeOptions::new(tree)
     };
     Ok(grade(&options, &ProgressBar::hidden())?.values())

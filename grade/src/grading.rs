@@ -67,6 +67,11 @@ pub struct GradeOptions {
     pub run_tests: bool,
     /// Render with this seed instead of the rubric's (calibration tries several).
     pub seed: Option<u64>,
+    /// Trace the tile-tested scenes' renders with the harness's wide BVH (`render --accel wide`,
+    /// the same hits, three to four times faster). Only for trees whose checkpoints 2 to 4 are
+    /// the reference solution's (calibration variants of later checkpoints): never for a
+    /// submission, whose triangle test, boxes and traversal are judged in every render.
+    pub wide_tile_renders: bool,
 }
 
 impl GradeOptions {
@@ -82,6 +87,7 @@ impl GradeOptions {
             scenes: None,
             run_tests: true,
             seed: None,
+            wide_tile_renders: false,
         }
     }
 }
@@ -404,6 +410,9 @@ impl Child<'_> {
             .arg("--no-fallbacks");
         if pfm {
             command.arg("--pfm").arg(&film);
+            if self.options.wide_tile_renders {
+                command.arg("--accel").arg("wide");
+            }
         }
         let run = run_limited(command, self.limit, Limits::GRADED)
             .map_err(|e| format!("cannot start {}: {e}", self.renderer.display()))?;
