@@ -41,12 +41,14 @@ pub struct Packet {
 
 impl Packet {
     /// A packet of `triangles` (1 to [`LANES`]), each with its input index.
-    pub fn new(triangles: &[(u32, Triangle)]) -> Self {
-        assert!((1..=LANES).contains(&triangles.len()), "a packet holds 1 to {LANES} triangles");
+    pub fn new(triangles: impl IntoIterator<Item = (u32, Triangle)>) -> Self {
         let mut lanes = [[[0.0f32; LANES]; 3]; 3];
         let mut grazing = [0.0f32; LANES];
         let mut prims = [u32::MAX; LANES];
-        for (lane, &(prim, t)) in triangles.iter().enumerate() {
+        let mut count = 0;
+        for (lane, (prim, t)) in triangles.into_iter().enumerate() {
+            assert!(lane < LANES, "a packet holds at most {LANES} triangles");
+            count += 1;
             let (e1, e2) = (t.p1 - t.p0, t.p2 - t.p0);
             for axis in 0..3 {
                 lanes[0][axis][lane] = t.p0[axis];
@@ -56,6 +58,7 @@ impl Packet {
             grazing[lane] = GRAZING * e1.cross(e2).length();
             prims[lane] = prim;
         }
+        assert!(count > 0, "a packet holds at least one triangle");
         let [p0, e1, e2] = lanes.map(|vectors| vectors.map(f32x4::from));
         Self { p0, e1, e2, grazing: f32x4::from(grazing), prims }
     }
@@ -124,7 +127,7 @@ mod tests {
         let mut hits = 0;
         for _ in 0..20_000 {
             let triangle = random_triangle(&mut rng, 1.0);
-            let packet = Packet::new(&[(7, triangle)]);
+            let packet = Packet::new([(7, triangle)]);
             let target = triangle.point(rng.next_f32() * 1.2 - 0.1, rng.next_f32() * 1.2 - 0.1);
             let origin = target + random_unit_vector(&mut rng) * 2.0;
             let ray = Ray::new(origin, target - origin);
@@ -141,14 +144,14 @@ mod tests {
         let at =
             |z: f32| Triangle::new(Vec3::new(-1.0, -1.0, z), Vec3::new(1.0, -1.0, z), Vec3::new(0.0, 1.0, z));
         let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
-        let packet = Packet::new(&[(0, at(1.0)), (1, at(3.0)), (2, at(-2.0)), (3, at(3.0))]);
+        let packet = Packet::new([(0, at(1.0)), (1, at(3.0)), (2, at(-2.0)), (3, at(3.0))]);
         let (prim, hit) = packet.intersect(&ray).expect("hit");
         assert_eq!((prim, hit.t), (1, 2.0));
         assert_eq!(packet.prims().collect::<Vec<_>>(), [0, 1, 2, 3]);
         // The unused lanes of a short packet never hit, even a ray through the origin.
-        let short = Packet::new(&[(9, at(-3.0))]);
+        let short = Packet::new([(9, at(-3.0))]);
         assert_eq!(short.prims().count(), 1);
         assert_eq!(short.intersect(&Ray::new(Vec3::new(0.0, 0.0, 1.0), -Vec3::Z)).map(|h| h.0), Some(9));
-        assert_eq!(Packet::new(&[(9, at(7.0))]).intersect(&ray), None);
+        assert_eq!(Packet::new([(9, at(7.0))]).intersect(&ray), None);
     }
 }
