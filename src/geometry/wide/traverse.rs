@@ -7,9 +7,11 @@
 //! its entry distance `t_in`, so the nearest is visited next; an entry popped after a hit has
 //! shrunk `t_max` below its `t_in` is skipped without a test (its box test would now fail: the
 //! box was met on `[t_in, t_out]` and the range is now `[t_min, t_max]` with `t_max < t_in`).
+//!
+//! **Memory.** Every child met is prefetched as it is pushed ([`WideBvh::prefetch`]).
 
 use super::boxes::{BoxTest, Portable};
-use super::{Child, Link, WideBvh, WIDTH};
+use super::{Child, Link, Packet, WideBvh, WideNode, WIDTH};
 use crate::geometry::{BvhHit, TraversalStats};
 use crate::math::Ray;
 
@@ -47,6 +49,35 @@ impl WideBvh {
     #[target_feature(enable = "avx2")]
     unsafe fn traverse_avx2(&self, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -> Option<BvhHit> {
         self.traverse_with::<super::boxes::Avx2>(ray, any_hit, stats)
+    }
+
+    /// Asks the CPU to start loading the node or packet `link` names into its cache, so that it
+    /// is there, or on its way, when the traversal comes to it: children met are pushed long
+    /// before most of them are popped, and incoherent rays spend most of their time waiting for
+    /// memory (prefetching every child met: +29% on raybench's incoherent rays, +23% on shadow
+    /// rays, +8% on primary rays; docs/PERFORMANCE.md).
+    #[inline(always)]
+    fn prefetch(&self, link: Link) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            use std::mem::size_of;
+            let (start, bytes) = match link.child() {
+                Child::Node(n) => {
+                    (self.nodes.as_ptr().wrapping_add(n as usize).cast::<i8>(), size_of::<WideNode>())
+                }
+                Child::Leaf { packet, .. } => {
+                    (self.packets.as_ptr().wrapping_add(packet as usize).cast::<i8>(), size_of::<Packet>())
+                }
+                Child::Empty => return,
+            };
+            for line in (0..bytes).step_by(64) {
+                // SAFETY: prefetching never faults, whatever the address.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(line)) };
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = link; // elsewhere the hardware's own prefetcher does what it can
     }
 
     /// The traversal, with the box tests of `B`.
@@ -92,6 +123,7 @@ impl WideBvh {
                         let slot = bits.trailing_zeros() as usize;
                         bits &= bits - 1;
                         let entry = (node.links[slot], t_ins[slot]);
+                        self.prefetch(entry.0);
                         let mut i = len;
                         while i > base && stack[i - 1].1 < entry.1 {
                             stack[i] = stack[i - 1];
