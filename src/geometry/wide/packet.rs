@@ -14,7 +14,7 @@
 //! tree. Among lanes that hit, the smallest `t` wins, ties to the lowest lane: the triangle the
 //! binary tree's leaf loop would keep.
 
-use wide::{f32x4, CmpGe, CmpGt, CmpLe, CmpLt, CmpNe};
+use wide::{f32x4, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt, CmpNe};
 
 use crate::geometry::{Triangle, TriangleHit};
 use crate::math::Ray;
@@ -93,9 +93,14 @@ impl Packet {
         if mask == 0 {
             return None;
         }
-        let (t, b1, b2) = (t.to_array(), b1.to_array(), b2.to_array());
-        let lane = (0..LANES).filter(|l| mask & 1 << l != 0).min_by(|&a, &b| t[a].total_cmp(&t[b]))?;
-        Some((self.prims[lane], TriangleHit { t: t[lane], b1: b1[lane], b2: b2[lane] }))
+        // The nearest lane that hits, without branching: the lanes that miss at infinity, the
+        // least `t`, the first lane holding it. (A hit's `t` passed `t > t_min`: never NaN.)
+        let t_hits = hit.blend(t, f32x4::splat(f32::INFINITY)).to_array();
+        let nearest = t_hits.into_iter().fold(f32::INFINITY, f32::min);
+        let lane =
+            (f32x4::from(t_hits).cmp_eq(f32x4::splat(nearest)).move_mask() & mask).trailing_zeros() as usize;
+        let (b1, b2) = (b1.to_array(), b2.to_array());
+        Some((self.prims[lane], TriangleHit { t: nearest, b1: b1[lane], b2: b2[lane] }))
     }
 }
 
