@@ -54,8 +54,8 @@ impl WideBvh {
     /// Asks the CPU to start loading the node or packet `link` names into its cache, so that it
     /// is there, or on its way, when the traversal comes to it: children met are pushed long
     /// before most of them are popped, and incoherent rays spend most of their time waiting for
-    /// memory (prefetching every child met: +29% on raybench's incoherent rays, +23% on shadow
-    /// rays, +8% on primary rays; docs/PERFORMANCE.md).
+    /// memory (prefetching every child met: +29% on raybench's incoherent rays, +25% on shadow
+    /// rays, +9% on primary rays; docs/PERFORMANCE.md).
     #[inline(always)]
     fn prefetch(&self, link: Link) {
         #[cfg(target_arch = "x86_64")]
