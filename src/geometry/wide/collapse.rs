@@ -5,7 +5,8 @@
 //! below it that together cover `n`'s subtree (a *cut* of the subtree). Which cut? Opening the
 //! child of largest area first, greedily, fills the nodes near the root but leaves many nearly
 //! empty ones at the bottom of an unbalanced (SAH) tree: on a 1M-triangle mesh, 109,177 wide
-//! nodes over 323,352 leaves, four children per node on average where eight fit.
+//! nodes over 323,352 leaves, four children per node on average where eight fit. The plan below
+//! makes 62,890 (six children on average), and rays through it run 8% faster.
 //!
 //! **The cost.** As for the binary SAH: a ray that meets a box of half area `A` inside the root's
 //! `A_root` does so with probability `A / A_root`, so the expected cost of tracing a random ray
