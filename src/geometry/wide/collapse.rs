@@ -6,7 +6,8 @@
 //! child of largest area first, greedily, fills the nodes near the root but leaves many nearly
 //! empty ones at the bottom of an unbalanced (SAH) tree: on a 1M-triangle mesh, 109,177 wide
 //! nodes over 323,352 leaves, four children per node on average where eight fit. The plan below
-//! makes 62,890 (six children on average), and rays through it run 8% faster.
+//! makes 62,890 (six children on average), and primary and incoherent rays through it run 8%
+//! faster (docs/PERFORMANCE.md).
 //!
 //! **The cost.** As for the binary SAH: a ray that meets a box of half area `A` inside the root's
 //! `A_root` does so with probability `A / A_root`, so the expected cost of tracing a random ray
@@ -40,7 +41,7 @@ pub struct Plan {
     /// (the second takes the rest), or 0 when `i - 1` slots do as well (for `i = 1`: `n` takes
     /// the slot itself, as a leaf or as a wide node).
     split: Vec<[u8; WIDTH]>,
-    /// For an interior `n` made a wide node: the slots of the eight its first child takes.
+    /// For an interior `n` made a wide node: how many of its eight slots its first child takes.
     opened: Vec<u8>,
 }
 
@@ -56,8 +57,9 @@ impl Plan {
                 continue;
             };
             let (first, second) = (&cost[n + 1], &cost[second_child as usize]);
-            // D(n, i) and its best k, for i = 2 ..= WIDTH.
-            let mut shared = [(f32::INFINITY, 0u8); WIDTH];
+            // D(n, i) and its best k, for i = 2 ..= WIDTH. (Should every cost be infinite, areas
+            // overflowing on an enormous mesh, the first child takes one slot: still a cut.)
+            let mut shared = [(f32::INFINITY, 1u8); WIDTH];
             for (i, best) in shared.iter_mut().enumerate().skip(1) {
                 for k in 1..=i {
                     let c = first[k - 1] + second[i - k];
@@ -163,7 +165,7 @@ mod tests {
     }
 
     /// The collapse reaches the least total node area of all collapses, found by enumerating
-    /// every cut of small random trees (up to 14 leaves: thousands of cuts per node).
+    /// every cut of small random trees (9 to 56 triangles, up to about 20 leaves).
     #[test]
     fn the_collapse_has_the_least_node_area() {
         let mut rng = Rng::new(45, 0);
@@ -177,5 +179,19 @@ mod tests {
             }
         }
         assert!(checked >= 6, "the trees should be large enough to need more than one wide node");
+    }
+
+    /// A mesh so large that its boxes' areas overflow to infinity still collapses into a valid
+    /// tree (every cut then costs the same).
+    #[test]
+    fn overflowing_areas_still_give_a_valid_tree() {
+        let mut rng = Rng::new(46, 0);
+        let huge: Vec<_> = random_mesh(&mut rng, 200)
+            .into_iter()
+            .map(|t| crate::geometry::Triangle::new(t.p0 * 1e30, t.p1 * 1e30, t.p2 * 1e30))
+            .collect();
+        let bvh = Bvh::build(&huge, SplitMethod::Sah);
+        assert!(bvh.nodes()[0].bounds().half_area().is_infinite(), "the test needs overflowing areas");
+        WideBvh::collapse(&bvh).validate(&bvh).unwrap();
     }
 }

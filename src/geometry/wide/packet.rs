@@ -100,7 +100,7 @@ impl Packet {
         let lane =
             (f32x4::from(t_hits).cmp_eq(f32x4::splat(nearest)).move_mask() & mask).trailing_zeros() as usize;
         let (b1, b2) = (b1.to_array(), b2.to_array());
-        Some((self.prims[lane], TriangleHit { t: nearest, b1: b1[lane], b2: b2[lane] }))
+        Some((self.prims[lane], TriangleHit { t: t_hits[lane], b1: b1[lane], b2: b2[lane] }))
     }
 }
 
