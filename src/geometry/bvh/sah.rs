@@ -13,13 +13,22 @@
 //! axis, which costs O(n) per node and finds trees almost as good (Wald, "On fast Construction of
 //! SAH-based Bounding Volume Hierarchies", 2007).
 //!
+//! **Speed.** Points and boxes are handled as four-lane vectors (x, y, z, unused): the three
+//! bins of a centroid come from one subtraction, multiplication and truncation, and a bin's box
+//! grows by one SIMD `min` and `max`. Against the same loop on `Vec3` and [`Aabb`] (a NaN-aware
+//! compare and blend per coordinate), the 1M-triangle build takes 0.49 s instead of 0.63 s, and
+//! builds the same tree bit for bit (docs/PERFORMANCE.md).
+//!
 //! **Conventions.** Same contract as [`super::split::object_median_split`]: reorder `prims` in
 //! place, return a split with both halves non-empty. The partition is deterministic (it depends
 //! only on the input order), so the tree is the same on every run.
 
+use wide::{f32x4, i32x4};
+
 use super::split::Split;
 use super::PrimRef;
 use crate::geometry::Aabb;
+use crate::math::Vec3;
 
 /// Slices of the centroid bounds per axis; 16 is the usual trade-off between build time and tree
 /// quality (more bins barely lower the traversal cost).
@@ -27,58 +36,101 @@ pub const BINS: usize = 16;
 
 /// Splits `prims` (at least two) at the binned plane of least SAH cost.
 pub fn sah_split(prims: &mut [PrimRef]) -> Split {
-    let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
-    let binnings = [0, 1, 2].map(|axis| Binning::new(&centroid_bounds, axis));
+    let (lower, upper) = prims.iter().fold((INFINITY, NEG_INFINITY), |(lower, upper), p| {
+        let c = lanes(p.centroid);
+        (lower.fast_min(c), upper.fast_max(c))
+    });
+    let binning = Binning::new(lower, upper);
     // One pass over the triangles fills the bins of all three axes.
     let mut bins = [[Bin::EMPTY; BINS]; 3];
     for p in prims.iter() {
-        for (axis_bins, binning) in bins.iter_mut().zip(&binnings) {
-            let bin = &mut axis_bins[binning.of(p)];
+        let (min, max) = (lanes(p.bounds.min), lanes(p.bounds.max));
+        for (axis_bins, bin) in bins.iter_mut().zip(binning.of(p)) {
+            let bin = &mut axis_bins[bin];
             bin.count += 1;
-            bin.bounds = bin.bounds.union(p.bounds);
+            bin.min = bin.min.fast_min(min);
+            bin.max = bin.max.fast_max(max);
         }
     }
+    let extent = (upper - lower).to_array();
     let best = (0..3)
         // Centroids that do not spread along an axis all share one bin: no plane there.
-        .filter(|&axis| centroid_bounds.extent()[axis] > 0.0)
+        .filter(|&axis| extent[axis] > 0.0)
         .filter_map(|axis| best_plane(&bins[axis], prims.len()).map(|(bin, cost)| (axis, bin, cost)))
         .min_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
     let Some((axis, first_right_bin, _)) = best else {
         // Every centroid is the same point: no plane separates them, and any halving is as good.
         return Split { axis: 0, mid: prims.len() / 2 };
     };
-    let mid = partition(prims, |p| binnings[axis].of(p) < first_right_bin);
+    let mid = partition(prims, |p| binning.of(p)[axis] < first_right_bin);
     Split { axis, mid }
 }
 
-/// The triangles whose centroids fall in one slice: how many, and the box around them.
+/// The triangles whose centroids fall in one slice: how many, and the box around them, its
+/// corners as four-lane vectors (x, y, z and an unused lane), so that growing it by a triangle's
+/// box is one SIMD `min` and one `max` (the scalar `f32::min`, which must skip NaN, is a compare
+/// and a blend per coordinate: most of the binning loop's time). Bins' boxes only price the
+/// planes; the nodes' boxes are computed exactly as before, so the tree is the same.
 #[derive(Clone, Copy)]
 struct Bin {
     count: u32,
-    bounds: Aabb,
+    min: f32x4,
+    max: f32x4,
 }
 
 impl Bin {
-    const EMPTY: Bin = Bin { count: 0, bounds: Aabb::EMPTY };
+    const EMPTY: Bin = Bin { count: 0, min: INFINITY, max: NEG_INFINITY };
+
+    /// The bins' triangles together.
+    fn merge(self, other: Bin) -> Bin {
+        Bin {
+            count: self.count + other.count,
+            min: self.min.fast_min(other.min),
+            max: self.max.fast_max(other.max),
+        }
+    }
+
+    /// Half the area of the box, as [`Aabb::half_area`].
+    fn half_area(&self) -> f32 {
+        let [min, max] = [self.min, self.max].map(|c| c.to_array());
+        Aabb { min: Vec3::new(min[0], min[1], min[2]), max: Vec3::new(max[0], max[1], max[2]) }.half_area()
+    }
 }
 
-/// Maps a centroid coordinate on one axis to its bin.
+const INFINITY: f32x4 = f32x4::new([f32::INFINITY; 4]);
+const NEG_INFINITY: f32x4 = f32x4::new([f32::NEG_INFINITY; 4]);
+
+/// A point's coordinates in the first three of four lanes.
+#[inline]
+fn lanes(p: Vec3) -> f32x4 {
+    f32x4::new([p.x, p.y, p.z, 0.0])
+}
+
+/// Maps a centroid to its bin on each axis, all three at once.
 struct Binning {
-    axis: usize,
-    min: f32,
-    scale: f32,
+    /// The lower corner of the centroids' bounds.
+    min: f32x4,
+    /// Bins per unit length, per axis: `BINS / extent`.
+    scale: f32x4,
 }
 
 impl Binning {
-    fn new(centroid_bounds: &Aabb, axis: usize) -> Self {
-        let extent = centroid_bounds.extent()[axis];
-        Self { axis, min: centroid_bounds.min[axis], scale: BINS as f32 / extent }
+    /// The binning of centroids bounded by `lower` and `upper`.
+    fn new(lower: f32x4, upper: f32x4) -> Self {
+        Self { min: lower, scale: f32x4::splat(BINS as f32) / (upper - lower) }
     }
 
-    fn of(&self, prim: &PrimRef) -> usize {
-        // The largest centroid lands on BINS exactly: clamp it into the last bin. (A zero extent
-        // gives 0 · ∞ = NaN, which `as` turns into bin 0.)
-        (((prim.centroid[self.axis] - self.min) * self.scale) as usize).min(BINS - 1)
+    /// The bin of `prim`'s centroid along x, y and z: `⌊(c − min) · scale⌋`, the largest centroid
+    /// (which lands on `BINS` exactly) clamped into the last bin. A zero extent gives 0 · ∞ =
+    /// NaN, which the truncation turns into bin 0 (as Rust's `as` does).
+    #[inline]
+    fn of(&self, prim: &PrimRef) -> [usize; 3] {
+        let bins = ((lanes(prim.centroid) - self.min) * self.scale)
+            .trunc_int()
+            .max(i32x4::ZERO)
+            .min(i32x4::splat(BINS as i32 - 1))
+            .to_array();
+        [0, 1, 2].map(|axis| bins[axis] as usize)
     }
 }
 
@@ -89,18 +141,18 @@ fn best_plane(bins: &[Bin; BINS], n: usize) -> Option<(usize, f32)> {
     let mut right_cost = [0f32; BINS];
     let mut acc = Bin::EMPTY;
     for i in (1..BINS).rev() {
-        acc = Bin { count: acc.count + bins[i].count, bounds: acc.bounds.union(bins[i].bounds) };
-        right_cost[i] = acc.count as f32 * acc.bounds.half_area();
+        acc = acc.merge(bins[i]);
+        right_cost[i] = acc.count as f32 * acc.half_area();
     }
     // Sweep from the left, combining with the right sweep; skip planes with an empty side.
     let mut acc = Bin::EMPTY;
     let mut best: Option<(usize, f32)> = None;
     for i in 1..BINS {
-        acc = Bin { count: acc.count + bins[i - 1].count, bounds: acc.bounds.union(bins[i - 1].bounds) };
+        acc = acc.merge(bins[i - 1]);
         if acc.count == 0 || acc.count as usize == n {
             continue;
         }
-        let cost = acc.count as f32 * acc.bounds.half_area() + right_cost[i];
+        let cost = acc.count as f32 * acc.half_area() + right_cost[i];
         if best.is_none_or(|(_, c)| cost < c) {
             best = Some((i, cost));
         }
@@ -151,6 +203,33 @@ mod tests {
         let mut left: Vec<u32> = prims[..6].iter().map(|p| p.index).collect();
         left.sort_unstable();
         assert_eq!(left, vec![0, 1, 2, 3, 4, 5]);
+    }
+
+    /// All three bins at once are what the scalar formula `⌊(c − min) · scale⌋`, clamped to the
+    /// bins, gives on each axis, NaN (a zero extent) and overflow to infinity (a denormal one)
+    /// included.
+    #[test]
+    fn bins_are_the_scalar_formulas_on_every_axis() {
+        let mut rng = Rng::new(14, 0);
+        for _ in 0..10_000 {
+            // Per axis the lower bound and the extent of the centroids.
+            let mut axis = || match rng.next_u32() % 4 {
+                0 => (rng.next_f32() - 0.5, 0.0),
+                1 => (0.0, f32::from_bits(1 + rng.next_u32() % 8)), // denormal: BINS / extent = ∞
+                _ => (rng.next_f32() - 0.5, rng.next_f32() * 10.0),
+            };
+            let [x, y, z] = [axis(), axis(), axis()];
+            let (lower, extent) = (Vec3::new(x.0, y.0, z.0), Vec3::new(x.1, y.1, z.1));
+            let t = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 1.01;
+            let centroid = lower + extent * t;
+            let binning = Binning::new(lanes(lower), lanes(lower + extent));
+            let p = PrimRef { index: 0, bounds: Aabb::from_point(centroid), centroid };
+            let scalar = [0, 1, 2].map(|axis| {
+                let scale = BINS as f32 / ((lower + extent)[axis] - lower[axis]);
+                (((centroid[axis] - lower[axis]) * scale) as usize).min(BINS - 1)
+            });
+            assert_eq!(binning.of(&p), scalar, "{lower} {extent} {centroid}");
+        }
     }
 
     #[test]
