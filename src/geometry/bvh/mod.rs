@@ -7,6 +7,7 @@
 //! ([`traverse`]). This file holds the plumbing around them: the recursion, leaves, and
 //! [`Bvh::validate`], which the tests use to check any tree, however it was split.
 
+mod lanes;
 mod sah;
 mod split;
 mod traverse;
@@ -14,8 +15,11 @@ mod traverse;
 pub use split::SplitMethod;
 pub use traverse::{BvhHit, TraversalStats};
 
+use rayon::prelude::*;
+
 use crate::geometry::{Aabb, Triangle};
 use crate::math::Vec3;
+use lanes::Box4;
 
 /// Most triangles a leaf holds.
 pub const MAX_LEAF_TRIANGLES: usize = 4;
@@ -128,7 +132,8 @@ impl Bvh {
     /// Builds a tree over `triangles`, splitting nodes with `method`.
     pub fn build(triangles: &[Triangle], method: SplitMethod) -> Self {
         let mut prims: Vec<PrimRef> = triangles
-            .iter()
+            .par_iter()
+            .with_min_len(PARALLEL_BUILD_MIN)
             .enumerate()
             .map(|(i, t)| PrimRef { index: i as u32, bounds: t.bounds(), centroid: t.centroid() })
             .collect();
@@ -138,7 +143,11 @@ impl Bvh {
         }
         Self {
             nodes,
-            triangles: prims.iter().map(|p| triangles[p.index as usize]).collect(),
+            triangles: prims
+                .par_iter()
+                .with_min_len(PARALLEL_BUILD_MIN)
+                .map(|p| triangles[p.index as usize])
+                .collect(),
             prim_ids: prims.iter().map(|p| p.index).collect(),
         }
     }
@@ -244,7 +253,7 @@ const PARALLEL_BUILD_MIN: usize = 1 << 14;
 /// The tree is the same whatever the number of threads: splits depend only on the triangles, and
 /// a second child built on another thread is appended exactly where the sequential build puts it.
 fn build_node(prims: &mut [PrimRef], first: usize, method: SplitMethod, nodes: &mut Vec<Node>) -> u32 {
-    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+    let bounds = prims.iter().fold(Box4::EMPTY, |b, p| b.union(Box4::of(&p.bounds))).aabb();
     let index = nodes.len();
     if prims.len() <= MAX_LEAF_TRIANGLES {
         nodes.push(Node::leaf(bounds, first as u32, prims.len() as u32));

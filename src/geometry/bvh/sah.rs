@@ -13,11 +13,10 @@
 //! axis, which costs O(n) per node and finds trees almost as good (Wald, "On fast Construction of
 //! SAH-based Bounding Volume Hierarchies", 2007).
 //!
-//! **Speed.** Points and boxes are handled as four-lane vectors (x, y, z, unused): the three
-//! bins of a centroid come from one subtraction, multiplication and truncation, and a bin's box
-//! grows by one SIMD `min` and `max`. Against the same loop on `Vec3` and [`Aabb`] (a NaN-aware
-//! compare and blend per coordinate), the 1M-triangle build takes 0.49 s instead of 0.63 s, and
-//! builds the same tree bit for bit (docs/PERFORMANCE.md).
+//! **Speed.** Points and boxes are four-lane vectors ([`super::lanes`]): the three bins of a
+//! centroid come from one subtraction, multiplication and truncation, and a bin's box grows by one
+//! SIMD `min` and `max` (docs/PERFORMANCE.md: the 1M-triangle build took 0.63 s on `Vec3` and
+//! [`crate::geometry::Aabb`], 0.49 s so, the tree the same).
 //!
 //! **Conventions.** Same contract as [`super::split::object_median_split`]: reorder `prims` in
 //! place, return a split with both halves non-empty. The partition is deterministic (it depends
@@ -25,10 +24,9 @@
 
 use wide::{f32x4, i32x4};
 
+use super::lanes::{lanes, Box4};
 use super::split::Split;
 use super::PrimRef;
-use crate::geometry::Aabb;
-use crate::math::Vec3;
 
 /// Slices of the centroid bounds per axis; 16 is the usual trade-off between build time and tree
 /// quality (more bins barely lower the traversal cost).
@@ -36,23 +34,19 @@ pub const BINS: usize = 16;
 
 /// Splits `prims` (at least two) at the binned plane of least SAH cost.
 pub fn sah_split(prims: &mut [PrimRef]) -> Split {
-    let (lower, upper) = prims.iter().fold((INFINITY, NEG_INFINITY), |(lower, upper), p| {
-        let c = lanes(p.centroid);
-        (lower.fast_min(c), upper.fast_max(c))
-    });
-    let binning = Binning::new(lower, upper);
+    let centroids = prims.iter().fold(Box4::EMPTY, |b, p| b.grow(lanes(p.centroid)));
+    let binning = Binning::new(centroids);
     // One pass over the triangles fills the bins of all three axes.
     let mut bins = [[Bin::EMPTY; BINS]; 3];
     for p in prims.iter() {
-        let (min, max) = (lanes(p.bounds.min), lanes(p.bounds.max));
+        let bounds = Box4::of(&p.bounds);
         for (axis_bins, bin) in bins.iter_mut().zip(binning.of(p)) {
             let bin = &mut axis_bins[bin];
             bin.count += 1;
-            bin.min = bin.min.fast_min(min);
-            bin.max = bin.max.fast_max(max);
+            bin.bounds = bin.bounds.union(bounds);
         }
     }
-    let extent = (upper - lower).to_array();
+    let extent = (centroids.max - centroids.min).to_array();
     let best = (0..3)
         // Centroids that do not spread along an axis all share one bin: no plane there.
         .filter(|&axis| extent[axis] > 0.0)
@@ -66,44 +60,20 @@ pub fn sah_split(prims: &mut [PrimRef]) -> Split {
     Split { axis, mid }
 }
 
-/// The triangles whose centroids fall in one slice: how many, and the box around them, its
-/// corners as four-lane vectors (x, y, z and an unused lane), so that growing it by a triangle's
-/// box is one SIMD `min` and one `max` (the scalar `f32::min`, which must skip NaN, is a compare
-/// and a blend per coordinate: most of the binning loop's time). Bins' boxes only price the
-/// planes; the nodes' boxes are computed exactly as before, so the tree is the same.
+/// The triangles whose centroids fall in one slice: how many, and the box around them.
 #[derive(Clone, Copy)]
 struct Bin {
     count: u32,
-    min: f32x4,
-    max: f32x4,
+    bounds: Box4,
 }
 
 impl Bin {
-    const EMPTY: Bin = Bin { count: 0, min: INFINITY, max: NEG_INFINITY };
+    const EMPTY: Bin = Bin { count: 0, bounds: Box4::EMPTY };
 
     /// The bins' triangles together.
     fn merge(self, other: Bin) -> Bin {
-        Bin {
-            count: self.count + other.count,
-            min: self.min.fast_min(other.min),
-            max: self.max.fast_max(other.max),
-        }
+        Bin { count: self.count + other.count, bounds: self.bounds.union(other.bounds) }
     }
-
-    /// Half the area of the box, as [`Aabb::half_area`].
-    fn half_area(&self) -> f32 {
-        let [min, max] = [self.min, self.max].map(|c| c.to_array());
-        Aabb { min: Vec3::new(min[0], min[1], min[2]), max: Vec3::new(max[0], max[1], max[2]) }.half_area()
-    }
-}
-
-const INFINITY: f32x4 = f32x4::new([f32::INFINITY; 4]);
-const NEG_INFINITY: f32x4 = f32x4::new([f32::NEG_INFINITY; 4]);
-
-/// A point's coordinates in the first three of four lanes.
-#[inline]
-fn lanes(p: Vec3) -> f32x4 {
-    f32x4::new([p.x, p.y, p.z, 0.0])
 }
 
 /// Maps a centroid to its bin on each axis, all three at once.
@@ -115,9 +85,9 @@ struct Binning {
 }
 
 impl Binning {
-    /// The binning of centroids bounded by `lower` and `upper`.
-    fn new(lower: f32x4, upper: f32x4) -> Self {
-        Self { min: lower, scale: f32x4::splat(BINS as f32) / (upper - lower) }
+    /// The binning of centroids bounded by `centroids`.
+    fn new(centroids: Box4) -> Self {
+        Self { min: centroids.min, scale: f32x4::splat(BINS as f32) / (centroids.max - centroids.min) }
     }
 
     /// The bin of `prim`'s centroid along x, y and z: `⌊(c − min) · scale⌋`, the largest centroid
@@ -142,7 +112,7 @@ fn best_plane(bins: &[Bin; BINS], n: usize) -> Option<(usize, f32)> {
     let mut acc = Bin::EMPTY;
     for i in (1..BINS).rev() {
         acc = acc.merge(bins[i]);
-        right_cost[i] = acc.count as f32 * acc.half_area();
+        right_cost[i] = acc.count as f32 * acc.bounds.aabb().half_area();
     }
     // Sweep from the left, combining with the right sweep; skip planes with an empty side.
     let mut acc = Bin::EMPTY;
@@ -152,7 +122,7 @@ fn best_plane(bins: &[Bin; BINS], n: usize) -> Option<(usize, f32)> {
         if acc.count == 0 || acc.count as usize == n {
             continue;
         }
-        let cost = acc.count as f32 * acc.half_area() + right_cost[i];
+        let cost = acc.count as f32 * acc.bounds.aabb().half_area() + right_cost[i];
         if best.is_none_or(|(_, c)| cost < c) {
             best = Some((i, cost));
         }
@@ -175,7 +145,7 @@ fn partition(prims: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Bvh, SplitMethod, Triangle};
+    use crate::geometry::{Aabb, Bvh, SplitMethod, Triangle};
     use crate::math::Vec3;
     use crate::rng::Rng;
     use crate::test_fixtures::{
@@ -222,7 +192,7 @@ mod tests {
             let (lower, extent) = (Vec3::new(x.0, y.0, z.0), Vec3::new(x.1, y.1, z.1));
             let t = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 1.01;
             let centroid = lower + extent * t;
-            let binning = Binning::new(lanes(lower), lanes(lower + extent));
+            let binning = Binning::new(Box4 { min: lanes(lower), max: lanes(lower + extent) });
             let p = PrimRef { index: 0, bounds: Aabb::from_point(centroid), centroid };
             let scalar = [0, 1, 2].map(|axis| {
                 let scale = BINS as f32 / ((lower + extent)[axis] - lower[axis]);
