@@ -243,8 +243,9 @@ impl Bvh {
     }
 }
 
-/// Nodes over at least this many triangles build their two children in parallel: large enough
-/// that handing work to another thread costs nothing next to the work itself.
+/// Nodes over at least this many triangles build their two children in parallel, and the passes
+/// over every triangle (their boxes, the final gather) go to threads in pieces at least this
+/// long: large enough that handing work to another thread costs nothing next to the work itself.
 const PARALLEL_BUILD_MIN: usize = 1 << 14;
 
 /// Appends the subtree over `prims` (which start at position `first` of the leaf order) to
