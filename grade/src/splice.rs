@@ -20,7 +20,12 @@
 
 use std::path::{Path, PathBuf};
 
+use std::collections::BTreeMap;
+
 use crate::allow::check_region;
+use crate::lexer::line_at;
+use crate::markers::{find_regions, Found};
+use crate::plain::{kind, read_plain, read_text, walk, FileKind, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
 use crate::stub::{is_stub, region_bodies, region_function, rust_files, stub_regions};
 use crate::variants::{copy_tree, write_if_changed};
@@ -134,47 +139,65 @@ impl Submission {
     }
 }
 
-/// The regions of every Rust file below `tree/src`: file (relative), checkpoint, function, body.
+/// The regions of every Rust file below `tree/src` (the instructor's): file (relative),
+/// checkpoint, function, body.
 fn regions_of(tree: &Path) -> Result<Vec<(Region, String)>, String> {
     let src = tree.join("src");
     let files = rust_files(&src).map_err(|e| format!("{}: {e}", src.display()))?;
     let mut regions = Vec::new();
     for (path, text) in files {
         let file = path.strip_prefix(tree).unwrap_or(&path).to_path_buf();
-        for checkpoint in REGION_CHECKPOINTS {
-            for range in region_bodies(&text, checkpoint) {
-                let function = region_function(&text, range.start);
-                let region = Region { file: file.clone(), checkpoint, function };
-                regions.push((region, text[range].to_string()));
-            }
+        let found = find_regions(&text).map_err(|e| format!("{}: {e}", file.display()))?;
+        for f in found {
+            let region = Region { file: file.clone(), checkpoint: f.checkpoint, function: f.function };
+            regions.push((region, text[f.body].to_string()));
         }
     }
     Ok(regions)
 }
 
+/// The folders of the instructor's tree that students never see: nothing of them is named in a
+/// report, and a submission's files there are never compared with them.
+pub const HIDDEN_DIRS: [&str; 2] = ["hidden", "tests/hidden"];
+
+/// A submission's region file: its text and regions, or why it gives none (missing, not a plain
+/// file, too large, not UTF-8, does not lex).
+fn submission_file(submission: &Path, file: &Path) -> Result<(String, Vec<Found>), String> {
+    let shown = file.display();
+    let mut folder = submission.to_path_buf();
+    for component in file.parent().into_iter().flat_map(Path::components) {
+        folder.push(component);
+        match kind(&folder) {
+            Some(FileKind::Dir) => {}
+            Some(FileKind::Other(what)) => {
+                let name = folder.strip_prefix(submission).unwrap_or(&folder).display().to_string();
+                return Err(format!("{name} is {what}: only plain files and folders are read"));
+            }
+            _ => return Err(format!("{shown} is missing")),
+        }
+    }
+    let text = read_text(&submission.join(file), MAX_FILE_BYTES).map_err(|why| match why.as_str() {
+        "missing" => format!("{shown} is missing"),
+        _ => format!("{shown}: {why}"),
+    })?;
+    let found = find_regions(&text)
+        .map_err(|e| format!("{shown}:{}: {e}: the file cannot be read as Rust", line_at(&text, e.byte)))?;
+    Ok((text, found))
+}
+
 /// Reads what the submission at `submission` has for every region of the instructor's tree.
 pub fn read_submission(instructor: &Path, submission: &Path) -> Result<Submission, String> {
     let wanted = regions_of(instructor)?;
-    let found = if submission.join("src").is_dir() { regions_of(submission)? } else { Vec::new() };
+    let mut files: BTreeMap<&Path, Result<(String, Vec<Found>), String>> = BTreeMap::new();
+    for (region, _) in &wanted {
+        files.entry(&region.file).or_insert_with(|| submission_file(submission, &region.file));
+    }
     let regions = wanted
         .iter()
         .map(|(region, _)| {
-            let taken = match found.iter().find(|(r, _)| r == region) {
-                None if !submission.join(&region.file).is_file() => {
-                    Taken::NotFound(format!("{} is missing", region.file.display()))
-                }
-                None => Taken::NotFound(format!(
-                    "no `// BEGIN SOLUTION checkpoint{}` region in `{}`: were its markers moved, renamed or deleted?",
-                    region.checkpoint, region.function
-                )),
-                Some((_, body)) if is_stub(body, region.checkpoint) => Taken::NotStarted,
-                Some((_, body)) => match check_region(body, region.checkpoint) {
-                    Ok(()) => Taken::Code(body.clone()),
-                    Err(rejection) => {
-                        let line = begin_line(&submission.join(&region.file), region).unwrap_or(0) + rejection.line;
-                        Taken::Rejected(format!("{}:{line}: {}", region.file.display(), rejection.reason))
-                    }
-                },
+            let taken = match &files[region.file.as_path()] {
+                Err(why) => Taken::NotFound(why.clone()),
+                Ok((text, found)) => take(region, text, found),
             };
             (region.clone(), taken)
         })
@@ -182,64 +205,82 @@ pub fn read_submission(instructor: &Path, submission: &Path) -> Result<Submissio
     Ok(Submission { regions, ignored: ignored_files(instructor, submission)? })
 }
 
-/// The line number of the region's `BEGIN SOLUTION` marker in `file`.
-fn begin_line(file: &Path, region: &Region) -> Option<usize> {
-    let text = std::fs::read_to_string(file).ok()?;
-    let range = region_bodies(&text, region.checkpoint)
-        .into_iter()
-        .find(|r| region_function(&text, r.start) == region.function)?;
-    Some(text[..range.start].lines().count())
+/// What the submission's file, `text` with its regions `found`, has for `region`.
+fn take(region: &Region, text: &str, found: &[Found]) -> Taken {
+    let Some(f) = found.iter().find(|f| f.checkpoint == region.checkpoint && f.function == region.function)
+    else {
+        return Taken::NotFound(format!(
+            "no `// BEGIN SOLUTION checkpoint{}` region in `{}`: were its markers moved, renamed or deleted?",
+            region.checkpoint, region.function
+        ));
+    };
+    if is_stub(text, f.body.clone(), region.checkpoint) {
+        return Taken::NotStarted;
+    }
+    let body = &text[f.body.clone()];
+    match check_region(body, region.checkpoint) {
+        Ok(()) => Taken::Code(body.to_string()),
+        Err(rejection) => {
+            let line = line_at(text, f.body.start) - 1 + rejection.line;
+            Taken::Rejected(format!("{}:{line}: {}", region.file.display(), rejection.reason))
+        }
+    }
 }
 
 /// Files of the submission that differ from the instructor's outside the regions (compared with
 /// every region body blanked), that the instructor's tree does not have, or that it has and the
-/// submission deleted (under `src/`, `tests/`, `scenes/`). The manifest is compared up to its
-/// workspace section, which the starter rewrites; build output, version control, the README and
-/// cargo's configuration are not listed.
+/// submission deleted (under `src/`, `tests/`, `scenes/`); anything that is not a plain file or
+/// folder, and files too large to read. The manifest is compared up to its workspace section,
+/// which the starter rewrites; build output, version control, the README and cargo's
+/// configuration are not listed. Files where the instructor keeps hidden ones are listed as
+/// ignored, never compared, and the instructor's hidden files are never named.
 fn ignored_files(instructor: &Path, submission: &Path) -> Result<Vec<String>, String> {
+    let skip = [".git", "target", "README.md", "Cargo.lock", ".cargo"];
+    let listing = walk(submission, &skip).map_err(|e| format!("{}: {e}", submission.display()))?;
     let mut ignored = Vec::new();
-    let mut stack = vec![PathBuf::new()];
-    while let Some(relative) = stack.pop() {
-        let dir = submission.join(&relative);
-        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        for entry in entries {
-            let entry = entry.map_err(|e| e.to_string())?;
-            let path = relative.join(entry.file_name());
-            let name = path.to_string_lossy().into_owned();
-            if [".git", "target", "README.md", "Cargo.lock", ".cargo"].contains(&name.as_str()) {
+    for (path, kind) in listing {
+        let name = path.display();
+        let theirs = match kind {
+            FileKind::Dir => continue,
+            FileKind::Other(what) => Err(format!("{what}, never read")),
+            FileKind::File if is_hidden(&path) => Err("not compared".to_string()),
+            FileKind::File => read_plain(&submission.join(&path), MAX_FILE_BYTES).map_err(|e| e.to_string()),
+        };
+        let theirs = match theirs {
+            Ok(bytes) => bytes,
+            Err(why) => {
+                ignored.push(format!("{name}: {why}: ignored"));
                 continue;
             }
-            if entry.file_type().map_err(|e| e.to_string())?.is_dir() {
-                stack.push(path);
-                continue;
+        };
+        let same = |ours: &[u8]| match path.to_str() {
+            Some("Cargo.toml") => package_part(ours) == package_part(&theirs),
+            _ => blank_regions(ours) == blank_regions(&theirs),
+        };
+        match std::fs::read(instructor.join(&path)) {
+            Err(_) => ignored.push(format!("{name}: a new file: ignored")),
+            Ok(ours) if !same(&ours) => {
+                ignored.push(format!("{name}: changed outside your regions: ignored"))
             }
-            let ours = std::fs::read(instructor.join(&path));
-            let theirs =
-                std::fs::read(entry.path()).map_err(|e| format!("{}: {e}", entry.path().display()))?;
-            let same = |ours: &[u8]| match name.as_str() {
-                "Cargo.toml" => package_part(ours) == package_part(&theirs),
-                _ => blank_regions(ours) == blank_regions(&theirs),
-            };
-            match ours {
-                Err(_) => ignored.push(format!("{name}: a new file: ignored")),
-                Ok(ours) if !same(&ours) => {
-                    ignored.push(format!("{name}: changed outside your regions: ignored"))
-                }
-                Ok(_) => {}
-            }
+            Ok(_) => {}
         }
     }
     for folder in ["src", "tests", "scenes"].into_iter().filter(|f| instructor.join(f).is_dir()) {
         let files = tree_files(&instructor.join(folder)).map_err(|e| format!("{folder}: {e}"))?;
         for file in files {
             let relative = file.strip_prefix(instructor).unwrap_or(&file);
-            if !submission.join(relative).exists() {
+            if !is_hidden(relative) && kind(&submission.join(relative)).is_none() {
                 ignored.push(format!("{}: deleted: ignored (the instructor's is used)", relative.display()));
             }
         }
     }
     ignored.sort();
     Ok(ignored)
+}
+
+/// Whether `path` (relative to a tree) is where the instructor keeps hidden files.
+fn is_hidden(path: &Path) -> bool {
+    HIDDEN_DIRS.iter().any(|dir| path.starts_with(dir))
 }
 
 /// Every file below `dir`.

@@ -5,20 +5,13 @@
 //! body no longer uses, and panics with `todo!("checkpoint N: <the function's first doc
 //! sentence>")`, so that the starter builds without warnings and says what to write.
 
-/// The byte ranges of the bodies of `checkpoint`'s solution regions in `text` (between the end of
-/// the BEGIN line and the start of the END line).
+use crate::markers::find_regions;
+
+/// The byte ranges of the bodies of `checkpoint`'s solution regions in `text` (see
+/// [`crate::markers`]); none if the text does not lex.
 pub fn region_bodies(text: &str, checkpoint: u32) -> Vec<std::ops::Range<usize>> {
-    let begin = format!("// BEGIN SOLUTION checkpoint{checkpoint}\n");
-    let mut regions = Vec::new();
-    let mut from = 0;
-    while let Some(b) = text[from..].find(&begin) {
-        let start = from + b + begin.len();
-        let Some(e) = text[start..].find("// END SOLUTION") else { break };
-        let end = text[..start + e].rfind('\n').map_or(start, |i| i + 1).max(start);
-        regions.push(start..end);
-        from = start + e;
-    }
-    regions
+    let found = find_regions(text).unwrap_or_default();
+    found.into_iter().filter(|f| f.checkpoint == checkpoint).map(|f| f.body).collect()
 }
 
 /// The stub's first line: what the markers around it are for.
@@ -31,38 +24,44 @@ const SILENCE: &str = "// This `let _` only keeps the compiler quiet about unuse
 pub fn stub_regions(text: &str, checkpoint: u32) -> String {
     let mut out = text.to_string();
     for r in region_bodies(text, checkpoint).into_iter().rev() {
-        let line_start = text[..r.start - 1].rfind('\n').map_or(0, |i| i + 1);
-        let indent: String = text[line_start..].chars().take_while(|c| c.is_whitespace()).collect();
-        let (name, params, summary) = enclosing_fn(&text[..line_start]);
-        let mut body = format!("{indent}{KEEP_MARKERS}\n");
-        let silence = |body: &mut String, what: &str| {
-            *body += &format!("{indent}{SILENCE}\n{indent}let _ = {what};\n");
-        };
-        match params.len() {
-            0 => {}
-            1 => silence(&mut body, &params[0]),
-            _ => silence(&mut body, &format!("({})", params.join(", "))),
-        }
-        let message = if summary.is_empty() {
-            format!("checkpoint {checkpoint}: write `{name}`")
-        } else {
-            format!("checkpoint {checkpoint}: write `{name}`: {summary}")
-        }
-        .replace('\\', "\\\\")
-        .replace('"', "\\\"");
-        body += &format!("{indent}todo!(\"{}\")\n", message.replace('{', "{{").replace('}', "}}"));
-        out.replace_range(r, &body);
+        let stub = stub_body(text, r.clone(), checkpoint);
+        out.replace_range(r, &stub);
     }
     out
 }
 
-/// Whether a region body is still the starter's stub: nothing but comments, `let _ = ...;` lines
-/// and the `todo!("checkpoint N: ...")` that [`stub_regions`] writes.
-pub fn is_stub(body: &str, checkpoint: u32) -> bool {
-    let todo = format!("todo!(\"checkpoint {checkpoint}:");
-    let mut lines = body.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with("//"));
-    lines.clone().any(|l| l.starts_with(&todo))
-        && lines.all(|l| l.starts_with("let _ = ") || l.starts_with(&todo))
+/// The starter's stub for the region of `checkpoint` whose body is `body` in `text`.
+pub fn stub_body(text: &str, body: std::ops::Range<usize>, checkpoint: u32) -> String {
+    let line_start = text[..body.start.saturating_sub(1)].rfind('\n').map_or(0, |i| i + 1);
+    let indent: String = text[line_start..].chars().take_while(|c| c.is_whitespace()).collect();
+    let (name, params, summary) = enclosing_fn(&text[..line_start]);
+    let mut stub = format!("{indent}{KEEP_MARKERS}\n");
+    let silence = |stub: &mut String, what: &str| {
+        *stub += &format!("{indent}{SILENCE}\n{indent}let _ = {what};\n");
+    };
+    match params.len() {
+        0 => {}
+        1 => silence(&mut stub, &params[0]),
+        _ => silence(&mut stub, &format!("({})", params.join(", "))),
+    }
+    let message = if summary.is_empty() {
+        format!("checkpoint {checkpoint}: write `{name}`")
+    } else {
+        format!("checkpoint {checkpoint}: write `{name}`: {summary}")
+    }
+    .replace('\\', "\\\\")
+    .replace('"', "\\\"");
+    stub + &format!("{indent}todo!(\"{}\")\n", message.replace('{', "{{").replace('}', "}}"))
+}
+
+/// Whether the body of the region of `checkpoint` at `body` in `text` is still the starter's
+/// stub: the very text [`stub_body`] writes for it, up to white space at the ends of lines and
+/// blank lines (an editor's reformatting). Any other text, a single character of code included,
+/// is the student's.
+pub fn is_stub(text: &str, body: std::ops::Range<usize>, checkpoint: u32) -> bool {
+    let lines =
+        |s: &str| s.lines().map(str::trim).filter(|l| !l.is_empty()).map(str::to_string).collect::<Vec<_>>();
+    lines(&text[body.clone()]) == lines(&stub_body(text, body, checkpoint))
 }
 
 /// The checkpoints among `ids` whose every solution region in the Rust files below `dir` is still
@@ -70,9 +69,9 @@ pub fn is_stub(body: &str, checkpoint: u32) -> bool {
 pub fn stubbed_checkpoints(dir: &std::path::Path, ids: &[u32]) -> std::io::Result<Vec<u32>> {
     let texts: Vec<String> = rust_files(dir)?.into_iter().map(|(_, text)| text).collect();
     let stubbed = |&id: &u32| {
-        let bodies: Vec<&str> =
-            texts.iter().flat_map(|t| region_bodies(t, id).into_iter().map(move |r| &t[r])).collect();
-        !bodies.is_empty() && bodies.iter().all(|b| is_stub(b, id))
+        let regions: Vec<(&String, std::ops::Range<usize>)> =
+            texts.iter().flat_map(|t| region_bodies(t, id).into_iter().map(move |r| (t, r))).collect();
+        !regions.is_empty() && regions.into_iter().all(|(t, r)| is_stub(t, r, id))
     };
     Ok(ids.iter().copied().filter(stubbed).collect())
 }
@@ -96,8 +95,8 @@ pub fn rust_files(dir: &std::path::Path) -> std::io::Result<Vec<(std::path::Path
 
 /// The name of the function whose body the region starting at byte `start` of `text` is.
 pub fn region_function(text: &str, start: usize) -> String {
-    let begin_line = text[..start.saturating_sub(1)].rfind('\n').map_or(0, |i| i + 1);
-    enclosing_fn(&text[..begin_line]).0
+    let found = find_regions(text).unwrap_or_default();
+    found.into_iter().find(|f| f.body.start == start).map(|f| f.function).unwrap_or_default()
 }
 
 /// For the last `fn` in `before`: its name, its parameters as borrows to silence (`&x`, `&mut y`
@@ -192,13 +191,20 @@ mod tests {
     #[test]
     fn grader_tells_a_stub_from_a_started_region() {
         let stub = stub_regions(SOLUTION, 7);
-        let bodies =
-            |text: &str| region_bodies(text, 7).into_iter().map(|r| text[r].to_string()).collect::<Vec<_>>();
-        assert!(bodies(&stub).iter().all(|b| is_stub(b, 7)), "{stub}");
-        assert!(bodies(SOLUTION).iter().all(|b| !is_stub(b, 7)));
-        // Started: a line of the student's own before the todo!() they have not removed yet.
-        let started = stub.replace("    todo!(", "    let n = spp * 2;\n    todo!(");
-        assert!(bodies(&started).iter().all(|b| !is_stub(b, 7)), "{started}");
-        assert!(bodies(&stub).iter().all(|b| !is_stub(b, 6)), "another checkpoint's todo");
+        let stubbed = |text: &str, n| region_bodies(text, 7).into_iter().all(|r| is_stub(text, r, n));
+        assert!(stubbed(&stub, 7), "{stub}");
+        assert!(!stubbed(SOLUTION, 7));
+        assert!(stubbed(&stub.replace("    todo!(", "\n      todo!("), 7), "re-indented");
+        assert!(stubbed(&stub.replace('\n', "\r\n"), 7), "CRLF");
+        // Started: a line of the student's own, before or on the lines of the stub.
+        for started in [
+            stub.replace("    todo!(", "    let n = spp * 2;\n    todo!("),
+            stub.replace("let _ = (", "let _ = { std::process::exit(0) };\n    let _ = ("),
+            stub.replace("let _ = (&pixel", "let _ = (&pixel.x"),
+            stub.replace(KEEP_MARKERS, "// my own words"),
+        ] {
+            assert!(!stubbed(&started, 7), "{started}");
+        }
+        assert!(!stubbed(&stub, 6), "another checkpoint's todo");
     }
 }

@@ -15,6 +15,7 @@ use indicatif::ProgressBar;
 
 use crate::cargo::{error_place, BUILD_TIME_LIMIT};
 use crate::grading::{grade, CheckpointResult, GradeOptions, GradeReport, Phases};
+use crate::plain::is_plain_dir;
 use crate::report::gradescope_json;
 use crate::rubric::Rubric;
 use crate::splice::{read_submission, write_spliced_tree, Submission, Taken, STUDENT_ENV};
@@ -113,14 +114,14 @@ pub fn grade_submission(
 /// The folder of a submission that holds its tree: `dir` if it holds `src/`, else the one folder
 /// inside it that does (an upload of the repository's folder, as a zip or from GitHub).
 pub fn submission_root(dir: &Path) -> PathBuf {
-    if dir.join("src").is_dir() {
+    if is_plain_dir(&dir.join("src")) {
         return dir.to_path_buf();
     }
     let inner: Vec<PathBuf> = std::fs::read_dir(dir)
         .into_iter()
         .flatten()
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.join("src").is_dir())
+        .filter(|p| is_plain_dir(p) && is_plain_dir(&p.join("src")))
         .collect();
     match inner.as_slice() {
         [only] => only.clone(),
