@@ -26,6 +26,9 @@
 //! [`image_io::write_film`] (sRGB PNG).
 
 #![warn(missing_docs)]
+// No `unsafe` in the renderer, solution regions included; the wide BVH's SIMD module alone
+// allows it (src/geometry/mod.rs).
+#![deny(unsafe_code)]
 
 pub mod camera;
 pub mod fallback;

@@ -8,6 +8,9 @@ mod aabb;
 pub mod bvh;
 mod mesh;
 mod triangle;
+// The harness's SIMD kernels (AVX2 detected at run time, prefetching): the one place `unsafe`
+// is allowed. No solution region is in it, and no region may `allow` the lint (grade's checker).
+#[allow(unsafe_code)]
 pub mod wide;
 
 pub use aabb::Aabb;
