@@ -13,6 +13,11 @@
 //! elsewhere); the culprit loses them with its hint; one after it loses them with "fix checkpoint
 //! K first" and no hint of its own. If every unit test passes (or none ran), the failure cannot be
 //! pinned on one checkpoint and every graded one loses the points, with its hint.
+//!
+//! **Isolated blame.** When checkpoint N alone runs a submission's code and every other region
+//! is the solution's ([`Blame::Isolated`], `grader submission`'s grade), only N's code can have
+//! made a scene fail: it costs N, whatever the other checkpoints' tests say, and the reason says
+//! when their tests fail too ("checkpoint 5's tests fail with your checkpoint 2").
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -72,6 +77,18 @@ pub struct GradeOptions {
     /// the reference solution's (calibration variants of later checkpoints): never for a
     /// submission, whose triangle test, boxes and traversal are judged in every render.
     pub wide_tile_renders: bool,
+    /// Who loses a failed scene's points (module docs).
+    pub blame: Blame,
+}
+
+/// Who can have made a failed scene fail (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Blame {
+    /// Every region runs the tree's own code: the lowest checkpoint whose tests fail.
+    Culprit,
+    /// Only the selected checkpoints' regions run a submission's code, the solution's everywhere
+    /// else: the selected checkpoint.
+    Isolated,
 }
 
 impl GradeOptions {
@@ -88,6 +105,7 @@ impl GradeOptions {
             run_tests: true,
             seed: None,
             wide_tile_renders: false,
+            blame: Blame::Culprit,
         }
     }
 }
@@ -312,8 +330,10 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         progress.inc(1);
     }
     phases.renders = rendering.elapsed().as_secs_f64();
-    let checkpoint_results =
-        checkpoints.iter().map(|c| score_checkpoint(c, tests.as_ref(), &stubbed, &scene_results)).collect();
+    let checkpoint_results = checkpoints
+        .iter()
+        .map(|c| score_checkpoint(c, tests.as_ref(), &stubbed, &scene_results, options.blame))
+        .collect();
     Ok(GradeReport {
         scenes: scene_results,
         checkpoints: checkpoint_results,
@@ -590,6 +610,7 @@ fn score_checkpoint(
     tests: Option<&TestRuns>,
     stubbed: &[u32],
     scenes: &[SceneResult],
+    blame: Blame,
 ) -> CheckpointResult {
     let id = checkpoint.id;
     let graded = |hidden: bool| -> Vec<&SceneResult> {
@@ -616,7 +637,7 @@ fn score_checkpoint(
         total.reasons.push("not started: its code is still the starter's todo!()".to_string());
     }
     for part in std::iter::once(&public).chain(hidden.as_ref()) {
-        let score = score_part(id, part, tests, stubbed);
+        let score = score_part(id, part, tests, stubbed, blame);
         total.test_score += score.test_score;
         total.image_score += score.image_score;
         total.reasons.extend(score.reasons);
@@ -638,7 +659,7 @@ fn score_checkpoint(
     }
 }
 
-fn score_part(id: u32, part: &Part, tests: Option<&TestRuns>, stubbed: &[u32]) -> PartScore {
+fn score_part(id: u32, part: &Part, tests: Option<&TestRuns>, stubbed: &[u32], blame: Blame) -> PartScore {
     let not_started = |k: u32| stubbed.contains(&k);
     let label = part.label;
     let mut score = PartScore::default();
@@ -672,12 +693,22 @@ fn score_part(id: u32, part: &Part, tests: Option<&TestRuns>, stubbed: &[u32]) -
         }
         let why = s.error.clone().unwrap_or_else(|| failed_checks(s));
         let name = &s.scene.name;
-        match culprit(&s.scene, tests) {
-            Some(k) if k > id => kept += 1,
-            Some(k) if k < id && not_started(k) => score.reasons.push(format!(
+        match (blame, culprit(&s.scene, tests)) {
+            (Blame::Isolated, Some(k)) if k != id => {
+                score.blamed = true;
+                score.reasons.push(format!(
+                    "{label}scene {name}: {why} (checkpoint {k}'s tests fail with your checkpoint {id}: only checkpoint {id} is your code in this grade)"
+                ));
+            }
+            (Blame::Isolated, _) => {
+                score.blamed = true;
+                score.reasons.push(format!("{label}scene {name}: {why}"));
+            }
+            (_, Some(k)) if k > id => kept += 1,
+            (_, Some(k)) if k < id && not_started(k) => score.reasons.push(format!(
                 "{label}scene {name}: lost because checkpoint {k} is not started; write checkpoint {k} first"
             )),
-            Some(k) if k < id => score.reasons.push(format!(
+            (_, Some(k)) if k < id => score.reasons.push(format!(
                 "{label}scene {name}: lost because checkpoint {k} is wrong (its unit tests fail); fix checkpoint {k} first ({why})"
             )),
             _ => {
@@ -756,7 +787,11 @@ mod tests {
         stubbed: &[u32],
         scenes: &[SceneResult],
     ) -> Vec<CheckpointResult> {
-        rubric.checkpoints.iter().map(|c| score_checkpoint(c, Some(tests), stubbed, scenes)).collect()
+        rubric
+            .checkpoints
+            .iter()
+            .map(|c| score_checkpoint(c, Some(tests), stubbed, scenes, Blame::Culprit))
+            .collect()
     }
 
     /// A bug in checkpoint 2 fails every scene; each lost point names checkpoint 2, and only
@@ -809,7 +844,7 @@ mod tests {
             .iter()
             .map(|s| if s.hidden { failed_scene(&rubric, &s.name) } else { passed(&s.name) })
             .collect();
-        let result = score_checkpoint(six, Some(&tests), &[], &scenes);
+        let result = score_checkpoint(six, Some(&tests), &[], &scenes, Blame::Culprit);
         assert_eq!(result.image_score, six.image_points);
         assert_eq!(result.test_score, six.test_points + hidden.test_points / 2.0);
         assert_eq!(result.max_score(true), six.all_test_points() + six.all_image_points());
@@ -820,5 +855,27 @@ mod tests {
         );
         assert!(result.reasons.iter().any(|r| r.starts_with("hidden scene ")), "{:?}", result.reasons);
         assert_eq!(result.tests_cell(), "5/5 + hidden 1/2");
+    }
+
+    /// Checkpoint 2 graded alone, the solution everywhere else: its bug fails every scene and
+    /// checkpoint 5's tests, and the scenes cost checkpoint 2 all the same, saying why; the
+    /// culprit rule would have kept them (a later checkpoint's tests fail).
+    #[test]
+    fn grader_blames_the_only_checkpoint_of_the_student_in_an_isolated_grade() {
+        let rubric = rubric();
+        let two = rubric.checkpoints.iter().find(|c| c.id == 2).unwrap();
+        let tests = runs(|id| id == 5);
+        let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
+        let culprit = score_checkpoint(two, Some(&tests), &[3, 4], &scenes, Blame::Culprit);
+        let isolated = score_checkpoint(two, Some(&tests), &[3, 4], &scenes, Blame::Isolated);
+        assert_eq!(culprit.image_score, two.image_points);
+        assert_eq!(isolated.image_score, 0.0);
+        assert!(isolated.advice.is_some());
+        assert!(
+            isolated.reasons.iter().any(|r| r.contains("checkpoint 5's tests fail with your checkpoint 2")),
+            "{:?}",
+            isolated.reasons
+        );
+        assert!(isolated.reasons.iter().all(|r| !r.contains("not started")), "{:?}", isolated.reasons);
     }
 }

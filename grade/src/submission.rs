@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use indicatif::ProgressBar;
 
 use crate::cargo::{error_place, BUILD_TIME_LIMIT};
-use crate::grading::{grade, CheckpointResult, GradeOptions, GradeReport, Phases};
+use crate::grading::{grade, Blame, CheckpointResult, GradeOptions, GradeReport, Phases};
 use crate::plain::is_plain_dir;
 use crate::report::gradescope_json;
 use crate::rubric::Rubric;
@@ -73,23 +73,24 @@ pub fn grade_submission(
         not_started: Some(submission.not_started()),
         ..GradeOptions::new(instructor)
     };
-    let with = |students: &[u32], checkpoints: Option<Vec<u32>>| GradeOptions {
+    let with = |students: &[u32], checkpoints: Option<Vec<u32>>, blame: Blame| GradeOptions {
         env: vec![(
             STUDENT_ENV.to_string(),
             students.iter().map(u32::to_string).collect::<Vec<_>>().join(","),
         )],
         checkpoints,
+        blame,
         ..base.clone()
     };
     let compiling_seconds = compiling.elapsed().as_secs_f64();
     progress.set_message("the whole renderer");
-    let cumulative = grade(&with(&ids, None), progress)?;
+    let cumulative = grade(&with(&ids, None, Blame::Culprit), progress)?;
     let mut phases = cumulative.phases;
     phases.build += compiling_seconds;
     let mut checkpoints = Vec::new();
     for &id in &ids {
         progress.set_message(format!("checkpoint {id} on its own"));
-        let report = grade(&with(&[id], Some(vec![id])), progress)?;
+        let report = grade(&with(&[id], Some(vec![id]), Blame::Isolated), progress)?;
         phases += report.phases;
         let mut result = report.checkpoints.into_iter().next().ok_or("the rubric lost a checkpoint")?;
         if submission.rejected().contains(&id) {
