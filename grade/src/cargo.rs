@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use crate::child::{run_with_limit, ChildRun, CHILD_ENV};
+use crate::child::{quote, run_with_limit, ChildRun, CHILD_ENV};
 
 /// Compiling a tree may take minutes on a cold machine.
 pub const BUILD_TIME_LIMIT: Duration = Duration::from_secs(900);
@@ -23,14 +23,24 @@ pub fn cargo(root: &Path, target: Option<&Path>, args: &[&str]) -> Command {
 }
 
 /// The first compiler error of a failed build with its place (`error[E0425]: cannot find value
-/// `x` in this scope at src/geometry/triangle.rs:101:9`), or why the build itself went wrong.
+/// `x` in this scope at src/geometry/triangle.rs:101:9`), or why the build itself went wrong;
+/// the message [`quote`]d.
 pub fn first_error(run: &ChildRun, limit: Duration) -> String {
     let lines: Vec<&str> = run.stderr.lines().collect();
     let Some(i) = lines.iter().position(|l| l.starts_with("error")) else { return run.failure_reason(limit) };
     let place = lines[i + 1..].iter().take(3).find_map(|l| l.trim_start().strip_prefix("--> "));
     match place {
-        Some(place) => format!("{} at {}", lines[i], place.trim()),
-        None => lines[i].to_string(),
+        Some(place) => format!("{} at {}", quote(lines[i]), quote(place)),
+        None => quote(lines[i]),
+    }
+}
+
+/// The error code of a [`first_error`] message (`error[E0308]`), or `error`: what may be said
+/// of an error in a file a student cannot see.
+pub fn error_code(message: &str) -> &str {
+    match message.find(']') {
+        Some(end) if message.starts_with("error[") => &message[..=end],
+        _ => "error",
     }
 }
 
@@ -86,6 +96,8 @@ mod tests {
         );
         assert_eq!(error_place(&message), Some((PathBuf::from("src/geometry/triangle.rs"), 101)));
         assert_eq!(error_place("error: linking failed"), None);
+        assert_eq!(error_code(&message), "error[E0425]");
+        assert_eq!(error_code("error: linking failed"), "error");
     }
 
     #[test]

@@ -54,37 +54,120 @@ impl ChildRun {
         self.status.is_some_and(|s| s.success())
     }
 
-    /// One line saying why it failed: the panic message, a crash, a limit it reached.
+    /// Why the child failed, in one line, with what it said quoted ([`quote`]): for public
+    /// checks.
     pub fn failure_reason(&self, limit: Duration) -> String {
+        self.failure(limit).to_string()
+    }
+
+    /// Why the child failed: a fixed category, and the text it wrote that says more.
+    pub fn failure(&self, limit: Duration) -> Failure {
+        let (category, detail) = self.classify(limit);
+        Failure { category, detail: detail.map(|d| quote(&d)) }
+    }
+
+    fn classify(&self, limit: Duration) -> (Category, Option<String>) {
         let Some(status) = self.status else {
-            return format!("did not finish within the time limit of {:.0} s", limit.as_secs_f64());
+            return (Category::OutOfTime, Some(format!("the limit is {:.0} s", limit.as_secs_f64())));
         };
         if let Some(line) = self.stderr.lines().find_map(|l| l.strip_prefix(PANIC_PREFIX)) {
-            return format!("panicked: {line}");
+            return (Category::Panicked, Some(line.to_string()));
         }
         if self.stderr.contains("has overflowed its stack") {
-            return "crashed: stack overflow (unbounded recursion?)".to_string();
+            return (Category::Crashed, Some("stack overflow (unbounded recursion?)".to_string()));
         }
         if let (Some(line), Some(limits)) =
             (self.stderr.lines().find(|l| l.contains("memory allocation of")), self.limits)
         {
-            return format!("ran out of memory (the limit is {} MiB): {}", limits.memory >> 20, line.trim());
+            return (
+                Category::OutOfMemory,
+                Some(format!("limit {} MiB; {}", limits.memory >> 20, line.trim())),
+            );
         }
         #[cfg(unix)]
         if let Some(signal) = std::os::unix::process::ExitStatusExt::signal(&status) {
             return match (signal, self.limits) {
-                (libc::SIGXCPU, _) => "used up its CPU time (endless loop?)".to_string(),
-                (libc::SIGXFSZ, Some(l)) => {
-                    format!("wrote a file larger than the limit of {} MiB", l.file_size >> 20)
+                (libc::SIGXCPU, _) => {
+                    (Category::OutOfTime, Some("used up its CPU time (endless loop?)".to_string()))
                 }
-                (libc::SIGABRT, _) => "crashed: aborted".to_string(),
-                (libc::SIGKILL, _) => "was killed (by the system's out-of-memory killer?)".to_string(),
-                (libc::SIGSEGV, _) => "crashed: segmentation fault".to_string(),
-                _ => format!("crashed with signal {signal}"),
+                (libc::SIGXFSZ, Some(l)) => (
+                    Category::TooMuchOutput,
+                    Some(format!("a file or its output passed the limit of {} MiB", l.file_size >> 20)),
+                ),
+                (libc::SIGABRT, _) => (Category::Crashed, Some("aborted".to_string())),
+                (libc::SIGKILL, _) => {
+                    (Category::Crashed, Some("killed (by the system's out-of-memory killer?)".to_string()))
+                }
+                (libc::SIGSEGV, _) => (Category::Crashed, Some("segmentation fault".to_string())),
+                _ => (Category::Crashed, Some(format!("signal {signal}"))),
             };
         }
         let last = self.stderr.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("no message");
-        format!("failed ({status}): {last}")
+        (Category::Failed, Some(format!("{status}: {last}")))
+    }
+}
+
+/// How a child failed, as a fixed word: all that is reported of a hidden check.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Category {
+    /// It ended with an error status.
+    Failed,
+    /// It panicked.
+    Panicked,
+    /// It crashed: a signal, an abort, a stack overflow.
+    Crashed,
+    /// It ran past its time limit or its CPU time.
+    OutOfTime,
+    /// It ran out of memory.
+    OutOfMemory,
+    /// It wrote more than the file size limit.
+    TooMuchOutput,
+}
+
+impl std::fmt::Display for Category {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Category::Failed => "failed",
+            Category::Panicked => "panicked",
+            Category::Crashed => "crashed",
+            Category::OutOfTime => "ran out of time",
+            Category::OutOfMemory => "ran out of memory",
+            Category::TooMuchOutput => "wrote too much output",
+        })
+    }
+}
+
+/// Why a child failed: its category, and what it wrote, already [`quote`]d.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Failure {
+    /// The fixed word.
+    pub category: Category,
+    /// More, from the child's own output: never shown for a hidden check.
+    pub detail: Option<String>,
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.detail {
+            Some(detail) => write!(f, "{}: {detail}", self.category),
+            None => write!(f, "{}", self.category),
+        }
+    }
+}
+
+/// The longest quote of a child's text in a report.
+pub const MAX_QUOTE_CHARS: usize = 200;
+
+/// Text a child or a compiler wrote, made fit for a report: one line, control characters
+/// (terminal escapes, carriage returns, tabs) replaced by spaces and runs of white space folded,
+/// at most [`MAX_QUOTE_CHARS`] characters (cut with "...").
+pub fn quote(text: &str) -> String {
+    let cleaned: String = text.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+    let words: Vec<&str> = cleaned.split_whitespace().collect();
+    let line = words.join(" ");
+    match line.char_indices().nth(MAX_QUOTE_CHARS) {
+        Some((cut, _)) => format!("{}...", &line[..cut]),
+        None => line,
     }
 }
 
@@ -211,7 +294,7 @@ mod tests {
         let (marker, job) = marker_after_a_second("timeout");
         let limit = Duration::from_millis(300);
         let run = run_with_limit(sh(&format!("{job} sleep 30")), limit).unwrap();
-        assert!(run.status.is_none() && run.failure_reason(limit).contains("time limit"));
+        assert!(run.status.is_none() && run.failure(limit).category == Category::OutOfTime);
         std::thread::sleep(Duration::from_millis(1500));
         assert!(!marker.exists(), "the background job outlived the time limit");
     }
@@ -225,5 +308,27 @@ mod tests {
         let size = std::fs::metadata(&path).map_or(0, |m| m.len());
         let _ = std::fs::remove_file(&path);
         assert!(!run.success() && size <= 1 << 20, "wrote {size} bytes");
+    }
+
+    /// What a child writes reaches a report on one clean line of at most 200 characters, and
+    /// each way of failing has its fixed word.
+    #[test]
+    fn grader_quotes_a_child_on_one_short_clean_line() {
+        let text = format!("\x1b[31mred\x1b[0m\r\nsecond\tline {}", "é".repeat(500));
+        let quoted = quote(&text);
+        assert!(quoted.starts_with("[31mred [0m second line éé"), "{quoted}");
+        assert!(!quoted.chars().any(char::is_control));
+        assert_eq!(quoted.chars().count(), MAX_QUOTE_CHARS + 3);
+        let limit = Duration::from_secs(10);
+        let failure = |script: &str| run_with_limit(sh(script), limit).unwrap().failure(limit);
+        let panicked = failure(&format!("echo 'x\n{PANIC_PREFIX}boom\x1b[2J' >&2; exit 101"));
+        assert_eq!(panicked, Failure { category: Category::Panicked, detail: Some("boom [2J".to_string()) });
+        assert_eq!(failure("echo last words >&2; exit 3").to_string(), "failed: exit status: 3: last words");
+        assert_eq!(failure("kill -ABRT $$").to_string(), "crashed: aborted");
+        let mut head = Command::new("head");
+        head.args(["-c", "3000000", "/dev/zero"]);
+        let too_much =
+            run_limited(head, limit, Some(Limits { memory: 4 << 30, file_size: 1 << 20 })).unwrap();
+        assert_eq!(too_much.failure(limit).category, Category::TooMuchOutput);
     }
 }

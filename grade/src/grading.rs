@@ -391,7 +391,7 @@ fn run_unit_tests(
         progress.set_message(format!("testing checkpoint {}", c.id));
         runs.public.insert(c.id, run(&c.test_filter));
         if let Some(filter) = c.hidden.as_ref().and_then(|h| h.test_filter.as_deref()) {
-            runs.hidden.insert(c.id, run(filter));
+            runs.hidden.insert(c.id, run(filter).hidden());
         }
         progress.inc(1);
     }
@@ -437,11 +437,16 @@ impl Child<'_> {
         let run = run_limited(command, self.limit, Limits::GRADED)
             .map_err(|e| format!("cannot start {}: {e}", self.renderer.display()))?;
         let rendered = if !run.success() {
-            Err(run.failure_reason(self.limit))
+            // A hidden scene is reported by its fixed category only, never with its output.
+            let failure = run.failure(self.limit);
+            Err(if scene.hidden { failure.category.to_string() } else { failure.to_string() })
         } else if !png.exists() || (pfm && !film.exists()) {
             Err("the renderer exited without writing an image".to_string())
         } else {
-            let image = read_png(&png).map_err(|e| e.to_string());
+            let image = read_png(&png).map_err(|e| match scene.hidden {
+                true => "wrote an image that cannot be read".to_string(),
+                false => e.to_string(),
+            });
             let linear = if pfm { read_pfm(&film).map(Some).map_err(|e| e.to_string()) } else { Ok(None) };
             image.and_then(|image| Ok(Rendered { image, film: linear? }))
         };
@@ -486,7 +491,8 @@ fn grade_scene(
     let renderer = match renderer {
         Ok(renderer) => renderer,
         Err(e) => {
-            result.error = Some(e.clone());
+            let hidden = "the renderer does not build".to_string();
+            result.error = Some(if scene.hidden { hidden } else { e.clone() });
             return Ok(result);
         }
     };
@@ -691,7 +697,11 @@ fn score_part(id: u32, part: &Part, tests: Option<&TestRuns>, stubbed: &[u32], b
             kept += 1;
             continue;
         }
-        let why = s.error.clone().unwrap_or_else(|| failed_checks(s));
+        let why = match (&s.error, s.scene.hidden) {
+            (Some(e), _) => e.clone(),
+            (None, true) => "the image differs from the reference".to_string(),
+            (None, false) => failed_checks(s),
+        };
         let name = &s.scene.name;
         match (blame, culprit(&s.scene, tests)) {
             (Blame::Isolated, Some(k)) if k != id => {

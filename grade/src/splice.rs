@@ -23,6 +23,7 @@ use std::path::{Path, PathBuf};
 use std::collections::BTreeMap;
 
 use crate::allow::check_region;
+use crate::child::quote;
 use crate::lexer::line_at;
 use crate::markers::{find_regions, Found};
 use crate::plain::{kind, read_plain, read_text, walk, FileKind, MAX_FILE_BYTES};
@@ -119,6 +120,22 @@ impl Submission {
 }
 
 impl Submission {
+    /// Takes every region of the submission's own code as not compiling, for a build error
+    /// (`code`, as `error[E0308]`) in a file that is not the student's: a hidden test or the
+    /// instructor's code, which a report must not quote. `false` if there was none.
+    pub fn stub_every_region(&mut self, code: &str) -> bool {
+        let mut any = false;
+        for (_, taken) in &mut self.regions {
+            if matches!(taken, Taken::Code(_)) {
+                *taken = Taken::DoesNotCompile(format!(
+                    "with your code the tree does not build: {code} in a file that is not yours, which is not shown"
+                ));
+                any = true;
+            }
+        }
+        any
+    }
+
     /// The region of the submission's own code whose body in the spliced tree `tree` holds line
     /// `line` of `file`, if any.
     pub fn code_region_at(&mut self, tree: &Path, file: &Path, line: usize) -> Option<&mut Taken> {
@@ -239,7 +256,8 @@ fn ignored_files(instructor: &Path, submission: &Path) -> Result<Vec<String>, St
     let listing = walk(submission, &skip).map_err(|e| format!("{}: {e}", submission.display()))?;
     let mut ignored = Vec::new();
     for (path, kind) in listing {
-        let name = path.display();
+        // A file name is the student's text too: one clean line in a report.
+        let name = quote(&path.display().to_string());
         let theirs = match kind {
             FileKind::Dir => continue,
             FileKind::Other(what) => Err(format!("{what}, never read")),

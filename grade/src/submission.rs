@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
 
-use crate::cargo::{error_place, BUILD_TIME_LIMIT};
+use crate::cargo::{error_code, error_place, BUILD_TIME_LIMIT};
 use crate::grading::{grade, Blame, CheckpointResult, GradeOptions, GradeReport, Phases};
 use crate::plain::is_plain_dir;
 use crate::report::gradescope_json;
@@ -60,9 +60,12 @@ pub fn grade_submission(
     progress.set_message("compiling the submission");
     let compiling = std::time::Instant::now();
     while let Err(error) = build_tests(&tree, Some(&target), BUILD_TIME_LIMIT) {
-        let Some((file, line)) = error_place(&error) else { break };
-        let Some(taken) = submission.code_region_at(&tree, &file, line) else { break };
-        *taken = Taken::DoesNotCompile(error);
+        let place = error_place(&error);
+        if let Some(taken) = place.and_then(|(file, line)| submission.code_region_at(&tree, &file, line)) {
+            *taken = Taken::DoesNotCompile(error);
+        } else if !submission.stub_every_region(error_code(&error)) {
+            break; // the starter's stubs do not build either: the instructor's tree is at fault
+        }
         write_spliced_tree(instructor, &submission, &tree)?;
     }
     let rubric = Rubric::of_tree(instructor)?;

@@ -11,7 +11,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use crate::cargo::{cargo, executables, first_error};
-use crate::child::{run_limited, run_with_limit, Limits, CHILD_ENV};
+use crate::child::{quote, run_limited, run_with_limit, Limits, CHILD_ENV};
 /// What one `cargo test <filter>` run found.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TestRun {
@@ -28,6 +28,13 @@ pub struct TestRun {
 }
 
 impl TestRun {
+    /// This run as a hidden check may be reported: the counts and the failing tests' names, no
+    /// text a test or the compiler wrote.
+    pub fn hidden(self) -> TestRun {
+        let error = self.error.map(|_| "the hidden tests could not run".to_string());
+        TestRun { error, first_failure: None, ..self }
+    }
+
     /// The fraction of tests passed; 0 when the run went wrong or ran nothing.
     pub fn fraction(&self) -> f64 {
         if self.error.is_some() || self.passed + self.failed == 0 {
@@ -158,10 +165,7 @@ impl TestBinaries {
 /// What a failed test said: the panic message libtest printed, or why the process ended.
 fn failure_message(run: &crate::child::ChildRun, limit: Duration) -> String {
     let lines: Vec<&str> = run.stdout.lines().collect();
-    let message = lines
-        .iter()
-        .position(|l| l.contains("panicked at"))
-        .and_then(|i| lines.get(i + 1))
-        .map(|l| l.trim().to_string());
+    let message =
+        lines.iter().position(|l| l.contains("panicked at")).and_then(|i| lines.get(i + 1)).map(|l| quote(l));
     message.unwrap_or_else(|| run.failure_reason(limit))
 }
