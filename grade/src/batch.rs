@@ -1,16 +1,22 @@
 //! `grader batch DIR... --out OUT`: a class graded one submission after another, with one
 //! scratch tree and one build folder, so the dependencies compile once.
 //!
-//! A `DIR` that holds `src/` is one submission; any other `DIR` holds one submission per
-//! subfolder (a folder of folders, as Gradescope's and GitHub Classroom's downloads unpack). A
-//! `.zip` is unpacked first (into `OUT/.work/unpacked/`), wherever it appears: the download itself,
-//! or a student's upload inside it; a submission whose tree is one folder down is found there. Each
-//! submission gets `OUT/<name>/results.json` and `report.txt`; the class gets `OUT/grades.csv`
-//! (student, points per checkpoint, total, flags) and `OUT/index.html`: a histogram of the points
-//! per checkpoint and the failing tests most students share. A submission the grader cannot read
-//! costs only its own row.
+//! A `DIR` whose tree is at its top (it holds `src/`), or down a chain of single folders, is one
+//! submission; any other `DIR` holds one submission per entry, a folder or a `.zip` (a folder of
+//! folders, as Gradescope's and GitHub Classroom's downloads unpack), and is never taken for one
+//! student's tree. A `.zip` is unpacked first by [`crate::unpack`] (into `OUT/.work/unpacked/`,
+//! removed once graded), wherever it appears: the download itself, or a student's upload inside
+//! it; a submission whose tree is one folder down is found there. Each submission gets
+//! `OUT/students/<name>/results.json` and `report.txt`; the class gets `OUT/grades.csv` (student,
+//! points per checkpoint, total, flags) and `OUT/index.html`: a histogram of the points per
+//! checkpoint and the failing tests most students share. These names are the grader's: no
+//! student's folder can be called so.
+//!
+//! **A batch never dies of one student.** A zip that cannot be unpacked, a tree that cannot be
+//! read, a grader error or even a panic while grading one submission costs that submission's row,
+//! with the reason; grades.csv and the class page are always written.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -18,36 +24,58 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 use raylab::image_io::write_file_atomic;
 
-use crate::child::{run_limited, Limits};
 use crate::html::escape;
-use crate::submission::{grade_submission, results_json, submission_root, text, SubmissionReport};
+use crate::plain::{is_plain_dir, kind, FileKind};
+use crate::submission::{grade_submission, results_json, text, SubmissionReport};
+use crate::unpack::unpack_zip;
 
 /// One student's outcome.
 pub struct Row {
-    /// The submission's folder name.
+    /// The submission's folder (or zip) name.
     pub student: String,
     /// The graded submission, or why it could not be graded.
     pub graded: Result<SubmissionReport, String>,
 }
 
-/// The submissions named by `dirs` (see the module docs), sorted by name; zips are unpacked into
-/// `unpacked`.
-pub fn submissions(dirs: &[PathBuf], unpacked: &Path) -> Result<Vec<PathBuf>, String> {
+/// One submission found in the class: its name, and its folder or why there is none.
+#[derive(Debug, PartialEq, Eq)]
+pub struct Entry {
+    /// The student, by the folder or zip's name.
+    pub student: String,
+    /// The folder to grade, or why it cannot be read (a zip that does not unpack).
+    pub dir: Result<PathBuf, String>,
+    /// Whether `dir` was unpacked by the grader (and is removed once graded).
+    pub unpacked: bool,
+}
+
+/// The submissions named by `dirs` (see the module docs), each class sorted by name; zips are
+/// unpacked into `unpacked`. `Err` only when none is found.
+pub fn submissions(dirs: &[PathBuf], unpacked: &Path) -> Result<Vec<Entry>, String> {
+    let mut names = BTreeSet::new();
     let mut found = Vec::new();
-    for dir in dirs {
-        let dir = &through_single_folders(&unzipped(dir, unpacked)?);
-        if submission_root(dir).join("src").is_dir() {
-            found.push(dir.clone());
+    for (i, dir) in dirs.iter().enumerate() {
+        let top = entry(dir, &unpacked.join(format!("download-{i}")), unique_name(dir, &mut names));
+        let Ok(folder) = &top.dir else {
+            found.push(top);
+            continue;
+        };
+        let folder = through_single_folders(folder);
+        if is_plain_dir(&folder.join("src")) {
+            found.push(Entry { dir: Ok(folder), ..top });
             continue;
         }
-        let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        let mut inner: Vec<PathBuf> = entries
+        names.remove(&top.student);
+        let listing = std::fs::read_dir(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+        let mut inner: Vec<PathBuf> = listing
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.is_dir() || is_zip(p))
-            .map(|p| unzipped(&p, unpacked))
-            .collect::<Result<_, _>>()?;
+            .filter(|p| is_plain_dir(p) || is_zip(p))
+            .collect();
         inner.sort();
-        found.extend(inner);
+        let students = unpacked.join("students");
+        found.extend(inner.iter().map(|p| {
+            let student = unique_name(p, &mut names);
+            entry(p, &students.join(&student), student)
+        }));
     }
     if found.is_empty() {
         return Err("no submissions found".to_string());
@@ -55,14 +83,46 @@ pub fn submissions(dirs: &[PathBuf], unpacked: &Path) -> Result<Vec<PathBuf>, St
     Ok(found)
 }
 
-/// `dir`, or the folder below it where a zip's single top folder leads (`download/class/`).
+/// A folder or a zip (unpacked into `dest`) as `student`'s submission.
+fn entry(path: &Path, dest: &Path, student: String) -> Entry {
+    if !is_zip(path) {
+        return Entry { student, dir: Ok(path.to_path_buf()), unpacked: false };
+    }
+    let _ = std::fs::remove_dir_all(dest);
+    let parent = dest.parent().unwrap_or(dest);
+    let made = std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()));
+    let dir = made.and_then(|()| unpack_zip(path, dest)).map(|()| dest.to_path_buf());
+    Entry { student, dir, unpacked: true }
+}
+
+/// The student's name for `path`: its file name without `.zip`, with characters other than
+/// letters, digits, `-`, `_`, `.` and `@` replaced by `_`, never starting with a dot (no `..`, no
+/// hidden folder), and `-2`, `-3`... added when two submissions would share a folder.
+fn unique_name(path: &Path, names: &mut BTreeSet<String>) -> String {
+    let file = path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let stem = if is_zip(path) { &file[..file.len() - 4] } else { file.as_str() };
+    let safe: String =
+        stem.chars().map(|c| if c.is_alphanumeric() || "-_.@".contains(c) { c } else { '_' }).collect();
+    let base = match safe.trim_start_matches('.') {
+        "" => "submission".to_string(),
+        trimmed if trimmed.len() == safe.len() => safe,
+        _ => format!("_{safe}"),
+    };
+    let name =
+        (1..).map(|n| if n == 1 { base.clone() } else { format!("{base}-{n}") }).find(|n| !names.contains(n));
+    let name = name.unwrap_or(base);
+    names.insert(name.clone());
+    name
+}
+
+/// `dir`, or the folder below it where a chain of single folders leads (`download/class/`).
 fn through_single_folders(dir: &Path) -> PathBuf {
     let mut dir = dir.to_path_buf();
-    while !dir.join("src").is_dir() {
+    while !is_plain_dir(&dir.join("src")) {
         let entries: Vec<PathBuf> =
             std::fs::read_dir(&dir).into_iter().flatten().filter_map(|e| e.ok().map(|e| e.path())).collect();
         match entries.as_slice() {
-            [only] if only.is_dir() => dir = only.clone(),
+            [only] if is_plain_dir(only) => dir = only.clone(),
             _ => break,
         }
     }
@@ -70,33 +130,8 @@ fn through_single_folders(dir: &Path) -> PathBuf {
 }
 
 fn is_zip(path: &Path) -> bool {
-    path.is_file() && path.extension().is_some_and(|e| e.eq_ignore_ascii_case("zip"))
+    kind(path) == Some(FileKind::File) && path.extension().is_some_and(|e| e.eq_ignore_ascii_case("zip"))
 }
-
-/// A zip unpacked into `unpacked/<its name>` (by `unzip`, in a child with the graded children's
-/// limits: a zip bomb fills no disk), or any other path as it is.
-fn unzipped(path: &Path, unpacked: &Path) -> Result<PathBuf, String> {
-    if !is_zip(path) {
-        return Ok(path.to_path_buf());
-    }
-    let name = path.file_stem().map_or_else(|| "submission".into(), |s| s.to_string_lossy().into_owned());
-    let dest = unpacked.join(&name);
-    if dest.exists() {
-        std::fs::remove_dir_all(&dest).map_err(|e| format!("{}: {e}", dest.display()))?;
-    }
-    std::fs::create_dir_all(&dest).map_err(|e| format!("{}: {e}", dest.display()))?;
-    let mut command = std::process::Command::new("unzip");
-    command.args(["-q", "-o"]).arg(path).arg("-d").arg(&dest);
-    let run = run_limited(command, UNZIP_TIME_LIMIT, Limits::GRADED)
-        .map_err(|e| format!("cannot run unzip for {}: {e}", path.display()))?;
-    if !run.success() {
-        return Err(format!("{}: cannot unpack: {}", path.display(), run.failure_reason(UNZIP_TIME_LIMIT)));
-    }
-    Ok(dest)
-}
-
-/// Unpacking one zip may take this long.
-const UNZIP_TIME_LIMIT: Duration = Duration::from_secs(120);
 
 /// "about 3 min left" after `done` of `total` submissions in `elapsed`.
 fn eta(done: usize, total: usize, elapsed: Duration) -> String {
@@ -110,7 +145,11 @@ fn eta(done: usize, total: usize, elapsed: Duration) -> String {
     }
 }
 
-/// Grades every submission in turn, writing each one's reports into `out` as it goes.
+/// The folder of the class page, grades.csv and the students' folders.
+pub const STUDENTS: &str = "students";
+
+/// Grades every submission in turn, writing each one's reports into `out/students/` as it goes;
+/// grades.csv and the class page are written whatever one submission does.
 pub fn grade_all(
     instructor: &Path,
     dirs: &[PathBuf],
@@ -118,30 +157,53 @@ pub fn grade_all(
     progress: &ProgressBar,
 ) -> Result<Vec<Row>, String> {
     let work = out.join(".work");
-    let submissions = submissions(dirs, &work.join("unpacked"))?;
-    progress.set_length(submissions.len() as u64);
+    let unpacked = work.join("unpacked");
+    let submissions = submissions(dirs, &unpacked)?;
+    let total = submissions.len();
+    progress.set_length(total as u64);
     let started = Instant::now();
     let mut rows = Vec::new();
-    for (done, dir) in submissions.iter().enumerate() {
-        let student =
-            dir.file_name().map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into_owned());
-        progress.set_message(format!("{student}{}", eta(done, submissions.len(), started.elapsed())));
-        let graded = grade_submission(instructor, dir, &work, &ProgressBar::hidden());
-        let folder = out.join(&student);
-        std::fs::create_dir_all(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
-        let report = match &graded {
-            Ok(g) => text(g),
-            Err(e) => format!("could not be graded: {e}\n"),
-        };
-        write(&folder.join("report.txt"), &report)?;
-        let results = serde_json::to_string_pretty(&results_json(&graded)).map_err(|e| e.to_string())?;
-        write(&folder.join("results.json"), &results)?;
+    for (done, entry) in submissions.into_iter().enumerate() {
+        let student = entry.student;
+        progress.set_message(format!("{student}{}", eta(done, total, started.elapsed())));
+        let graded = entry.dir.clone().and_then(|dir| grade_one(instructor, &dir, &work));
+        let written = write_reports(&out.join(STUDENTS).join(&student), &graded);
+        let graded = written.and(graded);
+        if let (true, Ok(dir)) = (entry.unpacked, &entry.dir) {
+            let _ = std::fs::remove_dir_all(dir);
+        }
         rows.push(Row { student, graded });
         progress.inc(1);
     }
+    let _ = std::fs::remove_dir_all(&unpacked);
     write(&out.join("grades.csv"), &csv(&rows))?;
     write(&out.join("index.html"), &class_page(&rows))?;
     Ok(rows)
+}
+
+/// One submission graded; a panic of the grader's own is that submission's error only.
+fn grade_one(instructor: &Path, dir: &Path, work: &Path) -> Result<SubmissionReport, String> {
+    let grading =
+        std::panic::catch_unwind(|| grade_submission(instructor, dir, work, &ProgressBar::hidden()));
+    grading.unwrap_or_else(|panic| {
+        let message = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned());
+        Err(format!("the grader failed on this submission: {}", message.unwrap_or_default()))
+    })
+}
+
+/// A student's report.txt and results.json.
+fn write_reports(folder: &Path, graded: &Result<SubmissionReport, String>) -> Result<(), String> {
+    std::fs::create_dir_all(folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+    let report = match graded {
+        Ok(g) => text(g),
+        Err(e) => format!("could not be graded: {e}\n"),
+    };
+    write(&folder.join("report.txt"), &report)?;
+    let results = serde_json::to_string_pretty(&results_json(graded)).map_err(|e| e.to_string())?;
+    write(&folder.join("results.json"), &results)
 }
 
 fn write(path: &Path, text: &str) -> Result<(), String> {
@@ -255,14 +317,31 @@ pub fn class_page(rows: &[Row]) -> String {
 mod tests {
     use super::*;
 
-    fn zip(folder: &Path, what: &str, into: &Path) {
-        let status = std::process::Command::new("zip")
-            .current_dir(folder)
-            .args(["-q", "-r"])
-            .arg(into)
-            .arg(what)
-            .status();
-        assert!(status.unwrap().success());
+    /// `folder` zipped into `into` by the zip crate, its entries named from `folder`'s parent.
+    fn zip(folder: &Path, into: &Path) {
+        use std::io::Write;
+        let mut zip = zip::ZipWriter::new(std::fs::File::create(into).unwrap());
+        let base = folder.parent().unwrap();
+        let mut stack = vec![folder.to_path_buf()];
+        while let Some(dir) = stack.pop() {
+            let name = dir.strip_prefix(base).unwrap().to_string_lossy().into_owned();
+            zip.add_directory(name, zip::write::SimpleFileOptions::default()).unwrap();
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    stack.push(path);
+                } else {
+                    let name = path.strip_prefix(base).unwrap().to_string_lossy().into_owned();
+                    zip.start_file(name, zip::write::SimpleFileOptions::default()).unwrap();
+                    zip.write_all(&std::fs::read(&path).unwrap()).unwrap();
+                }
+            }
+        }
+        zip.finish().unwrap();
+    }
+
+    fn folders(entries: &[Entry]) -> Vec<(String, Result<PathBuf, String>)> {
+        entries.iter().map(|e| (e.student.clone(), e.dir.clone())).collect()
     }
 
     /// Folders, folders of folders, zips of either, and zips inside a folder (a student's upload),
@@ -276,26 +355,54 @@ mod tests {
             std::fs::create_dir_all(dir.join("class").join(student).join("src")).unwrap();
         }
         let class = submissions(&[dir.join("class")], &unpacked).unwrap();
-        let want = ["alice", "bob", "carol"].map(|s| dir.join("class").join(s));
-        assert_eq!(class, want, "one per subfolder, sorted");
-        assert_eq!(submission_root(&class[2]), dir.join("class/carol/raylab-main"));
-        assert_eq!(submissions(&[dir.join("class/bob")], &unpacked).unwrap(), vec![dir.join("class/bob")]);
+        let want = ["alice", "bob", "carol"].map(|s| (s.to_string(), Ok(dir.join("class").join(s))));
+        assert_eq!(folders(&class), want, "one per subfolder, sorted");
+        let bob = submissions(&[dir.join("class/bob")], &unpacked).unwrap();
+        assert_eq!(folders(&bob), [("bob".to_string(), Ok(dir.join("class/bob")))]);
         std::fs::create_dir_all(dir.join("empty")).unwrap();
         assert!(submissions(&[dir.join("empty")], &unpacked).is_err());
 
         // The same class as one zip, and carol's upload as a zip inside the folder.
-        zip(&dir, "class", &dir.join("download.zip"));
+        zip(&dir.join("class"), &dir.join("download.zip"));
         let zipped = submissions(&[dir.join("download.zip")], &unpacked).unwrap();
-        assert_eq!(
-            zipped,
-            ["alice", "bob", "carol"].map(|s| unpacked.join("download/class").join(s)).to_vec()
-        );
-        zip(&dir.join("class/carol"), "raylab-main", &dir.join("class/carol.zip"));
+        let want =
+            ["alice", "bob", "carol"].map(|s| (s.to_string(), Ok(unpacked.join("download-0/class").join(s))));
+        assert_eq!(folders(&zipped), want);
+        zip(&dir.join("class/carol/raylab-main"), &dir.join("class/carol.zip"));
         std::fs::remove_dir_all(dir.join("class/carol")).unwrap();
         let mixed = submissions(&[dir.join("class")], &unpacked).unwrap();
-        assert_eq!(mixed[2], unpacked.join("carol"));
-        assert!(submission_root(&mixed[2]).join("src").is_dir());
+        assert_eq!(folders(&mixed)[2], ("carol".to_string(), Ok(unpacked.join("students/carol"))));
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// One student's folder beside zips is a class, not alice's tree; a zip that does not unpack
+    /// is its student's row with the reason; a zip named like the grader's own files is a student
+    /// like any other; names that would climb out, hide or collide get folders of their own.
+    #[test]
+    fn grader_never_merges_students_nor_stops_at_a_broken_zip() {
+        let dir = std::env::temp_dir().join(format!("raylab-batch-broken-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("class/alice/src")).unwrap();
+        std::fs::create_dir_all(dir.join("bob/src")).unwrap();
+        zip(&dir.join("bob"), &dir.join("class/grades.csv.zip"));
+        std::fs::write(dir.join("class/mallory.zip"), b"PK\x03\x04 not a zip").unwrap();
+        for copy in ["alice.zip", "..zip", "a b\nc.zip", ".hidden.zip"] {
+            std::fs::copy(dir.join("class/grades.csv.zip"), dir.join("class").join(copy)).unwrap();
+        }
+        let unpacked = dir.join("unpacked");
+        let class = submissions(&[dir.join("class")], &unpacked).unwrap();
+        let names: Vec<&str> = class.iter().map(|e| e.student.as_str()).collect();
+        let unpacked_ok: Vec<bool> =
+            class.iter().map(|e| e.dir.as_ref().is_ok_and(|d| d.join("bob/src").is_dir())).collect();
+        std::fs::remove_dir_all(&dir).unwrap();
+        // Sorted by file name: "..zip", ".hidden.zip", "a b\nc.zip", "alice", "alice.zip", ...
+        assert_eq!(names, ["submission", "_.hidden", "a_b_c", "alice", "alice-2", "grades.csv", "mallory"]);
+        assert_eq!(unpacked_ok, [true, true, true, false, true, true, false], "{class:?}");
+        assert!(
+            class[6].dir.as_ref().is_err_and(|e| e.contains("mallory.zip: cannot unpack")),
+            "{:?}",
+            class[6]
+        );
     }
 
     #[test]

@@ -29,5 +29,6 @@ pub mod ssim;
 pub mod stub;
 pub mod submission;
 pub mod unit_tests;
+pub mod unpack;
 pub mod variants;
 pub mod watch;

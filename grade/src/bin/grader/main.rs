@@ -236,9 +236,10 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> 
         }
     }
     println!(
-        "grader: grades in {}, the class page {}",
+        "grader: grades in {}, the class page {}, each student's report.txt and results.json in {}",
         out.join("grades.csv").display(),
-        out.join("index.html").display()
+        out.join("index.html").display(),
+        out.join(raylab_grade::batch::STUDENTS).join("<student>").display()
     );
     Ok(ExitCode::SUCCESS)
 }
