@@ -6,7 +6,9 @@
 //! `run_autograder` on four submissions, each unpacked as Gradescope would into
 //! `autograder/submission`: the solution (every point), the starter (checkpoint 1's points
 //! only), and the hostile fixtures `crashes` and `cheats` (exactly the points their
-//! `expected.toml` commits to). Prints the time of each step (docs/PERFORMANCE.md).
+//! `expected.toml` commits to), each over a planted full-marks results.json; then a grader that
+//! writes full marks everywhere and is killed (the 0-point fallback). Prints the time of each
+//! step (docs/PERFORMANCE.md).
 
 use std::path::Path;
 use std::process::Command;
@@ -70,6 +72,8 @@ pub fn gradescope_dry_run() -> Result<(), String> {
             }
             hostile => Want::Fixture(fixture::make(root, hostile, &submission)?),
         };
+        // What a graded process could leave where Gradescope reads the result: replaced.
+        plant_full_marks(&autograder.join("results/results.json"))?;
         let started = Instant::now();
         run("run_autograder", &mut gradescope_command(&autograder, "run_autograder"))?;
         let seconds = started.elapsed().as_secs_f64();
@@ -89,11 +93,46 @@ pub fn gradescope_dry_run() -> Result<(), String> {
             }
         }
     }
+    problems.extend(killed_grader(&autograder, &work)?);
     if problems.is_empty() {
         Ok(())
     } else {
         Err(problems.join("\n"))
     }
+}
+
+fn plant_full_marks(path: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(path.parent().unwrap_or(path)).map_err(|e| format!("{}: {e}", path.display()))?;
+    std::fs::write(path, r#"{"score": 999, "output": "planted"}"#)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// A grader that writes full marks both where it was told and where Gradescope reads, then dies
+/// as a killed one does: the student gets the 0-point fallback.
+fn killed_grader(autograder: &Path, work: &Path) -> Result<Option<String>, String> {
+    let fake = work.join("killed-grader");
+    let grader = fake.join("release/grader");
+    std::fs::create_dir_all(grader.parent().unwrap_or(&fake))
+        .map_err(|e| format!("{}: {e}", fake.display()))?;
+    let script = r#"#!/bin/sh
+prev=
+for a in "$@"; do
+    [ "$prev" = --json ] && printf '{"score": 999}' > "$a"
+    prev=$a
+done
+printf '{"score": 999}' > "$AUTOGRADER_ROOT/results/results.json"
+kill -KILL $$
+"#;
+    std::fs::write(&grader, script).map_err(|e| format!("{}: {e}", grader.display()))?;
+    run("chmod", Command::new("chmod").arg("+x").arg(&grader))?;
+    run("run_autograder", gradescope_command(autograder, "run_autograder").env("CARGO_TARGET_DIR", &fake))?;
+    let path = autograder.join("results/results.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let results: serde_json::Value = serde_json::from_str(&text).map_err(|e| format!("results.json: {e}"))?;
+    let output = results["output"].as_str().unwrap_or_default();
+    println!("run_autograder with a killed grader: {} points", results["score"]);
+    Ok((results["score"] != 0 || !output.contains("could not run"))
+        .then(|| format!("a killed grader: {text}, expected the 0-point fallback")))
 }
 
 /// One of Gradescope's scripts, run as Gradescope runs it but below `autograder`.
