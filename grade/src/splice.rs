@@ -107,9 +107,7 @@ impl Submission {
                 match t {
                     Taken::Code(_) | Taken::NotStarted => None,
                     Taken::NotFound(why) => Some(format!("{what}: not found, counts as not done: {why}")),
-                    Taken::Rejected(why) => {
-                        Some(format!("{what}: rejected, checkpoint {} scores 0: {why}", r.checkpoint))
-                    }
+                    Taken::Rejected(why) => Some(format!("{what}: rejected, graded as not written: {why}")),
                     Taken::DoesNotCompile(why) => {
                         Some(format!("{what}: does not compile, graded as not done: {why}"))
                     }
@@ -454,12 +452,11 @@ mod tests {
         assert!(submission.not_started().is_empty() && submission.rejected().is_empty());
     }
 
-    /// A file with regions of two checkpoints: each gets its own two bodies, in place.
-    #[test]
-    fn grader_splices_regions_of_several_checkpoints_in_one_file() {
-        let dir = std::env::temp_dir().join(format!("raylab-splice-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        let (ours, theirs, dest) = (dir.join("ours"), dir.join("theirs"), dir.join("dest"));
+    /// An instructor's tree `ours` and a submission `theirs` under `dir`, each with one file of two
+    /// regions (checkpoints 2 and 3).
+    fn two_trees(dir: &Path) -> (PathBuf, PathBuf) {
+        let _ = std::fs::remove_dir_all(dir);
+        let (ours, theirs) = (dir.join("ours"), dir.join("theirs"));
         // Markers are assembled so that the starter generator does not stub this fixture itself.
         let file = |a: &str, b: &str| {
             format!(
@@ -473,6 +470,15 @@ mod tests {
             std::fs::write(tree.join("src/a.rs"), text).unwrap();
             std::fs::write(tree.join("src/lib.rs"), "mod a;\n").unwrap();
         }
+        (ours, theirs)
+    }
+
+    /// A file with regions of two checkpoints: each gets its own two bodies, in place.
+    #[test]
+    fn grader_splices_regions_of_several_checkpoints_in_one_file() {
+        let dir = std::env::temp_dir().join(format!("raylab-splice-{}", std::process::id()));
+        let (ours, theirs) = two_trees(&dir);
+        let dest = dir.join("dest");
         // References, public and hidden, stay out of the scratch tree; hidden scenes go in.
         for dir in ["reference", "hidden/reference", "hidden/scenes"] {
             std::fs::create_dir_all(ours.join(dir)).unwrap();
@@ -490,6 +496,27 @@ mod tests {
                 format!("if crate::graded::student({n}) {{\n    {student}\n}} else {{\n    {solution}\n}}\n");
             assert!(spliced.contains(&want), "{spliced}");
         }
+    }
+
+    /// A rejected region's code never reaches the build: the tree is, byte for byte, the one
+    /// where that region is still the starter's stub, so it scores what the stub scores.
+    #[test]
+    fn grader_builds_a_rejected_region_as_the_starters_stub() {
+        let dir = std::env::temp_dir().join(format!("raylab-splice-rejected-{}", std::process::id()));
+        let (ours, theirs) = two_trees(&dir);
+        let spliced = |taken: Taken| {
+            let mut submission = read_submission(&ours, &theirs).unwrap();
+            submission.regions.iter_mut().find(|(r, _)| r.checkpoint == 2).unwrap().1 = taken;
+            let dest = dir.join("dest");
+            write_spliced_tree(&ours, &submission, &dest).unwrap();
+            std::fs::read_to_string(dest.join("src/a.rs")).unwrap()
+        };
+        let rejected = spliced(Taken::Rejected("src/a.rs:3: not allowed".to_string()));
+        let stub = spliced(Taken::NotStarted);
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(rejected, stub);
+        assert!(!rejected.contains("10 * 10") && rejected.contains("20 * 20"), "{rejected}");
+        assert!(rejected.contains("todo!("), "{rejected}");
     }
 
     #[test]

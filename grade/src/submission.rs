@@ -96,12 +96,11 @@ pub fn grade_submission(
         let report = grade(&with(&[id], Some(vec![id]), Blame::Isolated), progress)?;
         phases += report.phases;
         let mut result = report.checkpoints.into_iter().next().ok_or("the rubric lost a checkpoint")?;
+        // A rejected region's code never runs: the starter's stub stands in its place, so it
+        // scores exactly what the stub scores there.
         if submission.rejected().contains(&id) {
-            result.test_score = 0.0;
-            result.image_score = 0.0;
-            result
-                .reasons
-                .insert(0, "a region was rejected (see below): the checkpoint scores 0".to_string());
+            let reason = "a region was rejected (see below): graded with the starter's stub in its place";
+            result.reasons.insert(0, reason.to_string());
         }
         checkpoints.push(result);
     }
