@@ -1,6 +1,7 @@
 //! Hostile submissions as fixtures (`grade/tests/hostile/NAME/`): `fixture.toml` says how to
 //! turn a copy of the reference solution into the submission (region bodies replaced, files
-//! written, deleted or copied, markers stripped), `expected.toml` what grading it must give
+//! written, deleted, copied, replaced by symbolic links, given raw bytes or `\r\n` line
+//! endings, markers stripped), `expected.toml` what grading it must give
 //! (exact points per checkpoint, substrings of the report). Used by the hostile suite
 //! (`grade/tests/grader_hostile.rs`) and the Gradescope dry run (`cargo xtask
 //! gradescope-dry-run`), which must agree on every fixture.
@@ -11,6 +12,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::rubric::read_toml;
+use crate::splice::HIDDEN_DIRS;
 use crate::stub::{region_bodies, region_function, rust_files};
 use crate::variants::{copy_tree, NOT_COPIED};
 
@@ -30,7 +32,30 @@ struct Fixture {
     #[serde(default)]
     copy: Vec<CopyEdit>,
     #[serde(default)]
+    symlink: Vec<SymlinkEdit>,
+    #[serde(default)]
+    append: Vec<AppendEdit>,
+    #[serde(default)]
+    crlf: Vec<PathEdit>,
+    #[serde(default)]
     strip_markers: bool,
+}
+
+/// `path` replaced by a symbolic link to `target`, in which `{solution}` stands for the
+/// repository the fixture is made from (the instructor's tree).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SymlinkEdit {
+    path: PathBuf,
+    target: String,
+}
+
+/// Raw bytes appended to a file (for text that is not UTF-8).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AppendEdit {
+    path: PathBuf,
+    bytes: Vec<u8>,
 }
 
 #[derive(Deserialize)]
@@ -93,12 +118,14 @@ pub fn make(root: &Path, name: &str, dest: &Path) -> Result<Expected, String> {
     if dest.exists() {
         std::fs::remove_dir_all(dest).map_err(|e| format!("{}: {e}", dest.display()))?;
     }
-    copy_tree(root, dest, &NOT_COPIED).map_err(|e| format!("copying {}: {e}", root.display()))?;
-    apply(&fixture, dest).map_err(|e| format!("fixture {name}: {e}"))?;
+    // A student's tree, like the starter, has none of the instructor's hidden files.
+    let skip: Vec<&str> = NOT_COPIED.into_iter().chain(HIDDEN_DIRS).collect();
+    copy_tree(root, dest, &skip).map_err(|e| format!("copying {}: {e}", root.display()))?;
+    apply(&fixture, dest, root).map_err(|e| format!("fixture {name}: {e}"))?;
     Ok(expected)
 }
 
-fn apply(fixture: &Fixture, dir: &Path) -> Result<(), String> {
+fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), String> {
     let io = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
     for edit in &fixture.region {
         let path = dir.join(&edit.file);
@@ -122,6 +149,24 @@ fn apply(fixture: &Fixture, dir: &Path) -> Result<(), String> {
     for edit in &fixture.copy {
         let (from, to) = (dir.join(&edit.from), dir.join(&edit.to));
         std::fs::copy(&from, &to).map_err(|e| io(&from, e))?;
+    }
+    for edit in &fixture.crlf {
+        let path = dir.join(&edit.path);
+        let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
+        std::fs::write(&path, text.replace('\n', "\r\n")).map_err(|e| io(&path, e))?;
+    }
+    for edit in &fixture.append {
+        let path = dir.join(&edit.path);
+        let mut bytes = std::fs::read(&path).map_err(|e| io(&path, e))?;
+        bytes.extend(&edit.bytes);
+        std::fs::write(&path, bytes).map_err(|e| io(&path, e))?;
+    }
+    for edit in &fixture.symlink {
+        let path = dir.join(&edit.path);
+        let solution = std::path::absolute(solution).map_err(|e| io(solution, e))?;
+        let target = edit.target.replace("{solution}", &solution.to_string_lossy());
+        let _ = std::fs::remove_file(&path);
+        std::os::unix::fs::symlink(&target, &path).map_err(|e| io(&path, e))?;
     }
     if fixture.strip_markers {
         for (path, text) in rust_files(&dir.join("src")).map_err(|e| io(dir, e))? {

@@ -53,7 +53,11 @@ fn grade_fixture(name: &str, scratch: &Path) -> Result<(), String> {
 #[test]
 fn grader_holds_against_every_hostile_submission() {
     let scratch = std::env::temp_dir().join(format!("raylab-hostile-{}", std::process::id()));
-    let names = fixture::names(&repository()).unwrap();
+    let mut names = fixture::names(&repository()).unwrap();
+    // `RAYLAB_HOSTILE=files,spellings` grades only those fixtures, while writing one.
+    if let Ok(only) = std::env::var("RAYLAB_HOSTILE") {
+        names.retain(|n| only.split(',').any(|o| o == n));
+    }
     // One after the other: they share one scratch tree and its build.
     let failures: Vec<String> = names.iter().filter_map(|n| grade_fixture(n, &scratch).err()).collect();
     let _ = std::fs::remove_dir_all(&scratch);
