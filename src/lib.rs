@@ -32,20 +32,19 @@
 
 pub mod camera;
 pub mod fallback;
-pub mod film;
 pub mod geometry;
 pub mod hemisphere;
-pub mod image_io;
 pub mod integrator;
 pub mod light;
 pub mod material;
 pub mod math;
 pub mod progress;
 pub mod render;
-pub mod rng;
 pub mod sampling;
 pub mod scene;
-pub mod stats;
+
+// Shared with the grader, from a crate without solution regions (base/).
+pub use raylab_base::{film, image_io, rng, stats};
 
 #[cfg(test)]
 mod test_fixtures;

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
-use raylab::image_io::write_file_atomic;
+use raylab_base::image_io::write_file_atomic;
 
 use crate::html::escape;
 use crate::plain::{is_plain_dir, kind, FileKind};

@@ -39,8 +39,8 @@ use crate::rubric::{Check, Checkpoint, GradedScene, Metric, Rubric, TileTest};
 use crate::ssim::SsimMap;
 use crate::stub::stubbed_checkpoints;
 use crate::unit_tests::{build_tests, TestRun};
-use raylab::film::Film;
-use raylab::image_io::read_pfm;
+use raylab_base::film::Film;
+use raylab_base::image_io::read_pfm;
 
 /// A render may take this many times the reference's single-sample render time...
 const TIME_LIMIT_FACTOR: f64 = 20.0;

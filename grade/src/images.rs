@@ -1,11 +1,11 @@
 //! The grader's images are `image::RgbImage`s (for SSIM, heat maps, masks); the renderer's PNG
-//! reading and writing (`raylab::image_io`) carries them to and from disk.
+//! reading and writing (`raylab_base::image_io`) carries them to and from disk.
 
 use std::path::Path;
 
 use image::RgbImage;
-use raylab::film::Film;
-use raylab::image_io::{self, film_to_rgb8, ImageError, Rgb8Image};
+use raylab_base::film::Film;
+use raylab_base::image_io::{self, film_to_rgb8, ImageError, Rgb8Image};
 
 /// Reads a PNG (any bit depth or colour type) as 8-bit RGB.
 pub fn read_png(path: &Path) -> Result<RgbImage, ImageError> {

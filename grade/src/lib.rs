@@ -22,6 +22,8 @@ pub mod noisy;
 pub mod package;
 pub mod plain;
 pub mod reference;
+#[cfg(feature = "instructor")]
+pub mod render_references;
 pub mod report;
 pub mod rubric;
 pub mod splice;

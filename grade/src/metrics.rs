@@ -5,7 +5,7 @@ use image::RgbImage;
 use crate::features::Masks;
 use crate::rubric::{Check, Mask, Metric};
 use crate::ssim::SsimMap;
-use raylab::image_io::srgb_to_linear;
+use raylab_base::image_io::srgb_to_linear;
 
 /// Side of the tiles of [`worst_tile_error`], in pixels.
 pub const TILE: u32 = 32;

@@ -30,7 +30,7 @@
 //! tile at 0.17 times the solution's spread), where a deterministic render has exactly 0. All
 //! tests of an image form one family with the family-wise error rate `alpha` fixed in advance:
 //! each is run at Šidák's level, so a correct submission fails anywhere in the image with
-//! probability at most `alpha`. See [`raylab::stats`].
+//! probability at most `alpha`. See [`raylab_base::stats`].
 //! A tile whose numbers are not finite (NaN or infinite radiance) fails, whatever its p-values.
 //!
 //! **The seeds** are fixed in advance and never shared between the three kinds of render, so the
@@ -41,8 +41,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use raylab::film::Film;
-use raylab::stats::{sidak, welch, RankTest, Summary};
+use raylab_base::film::Film;
+use raylab_base::stats::{sidak, welch, RankTest, Summary};
 
 /// Below this fraction of the solution's standard deviation a tile's renders count as not
 /// varying with the seed (module docs): 17 times below the lowest a correct render was seen at.
@@ -240,7 +240,7 @@ impl TileFile {
     /// Writes the file (to a temporary name, then renamed).
     pub fn write(&self, path: &Path) -> Result<(), String> {
         let text = serde_json::to_string(self).map_err(|e| e.to_string())?;
-        raylab::image_io::write_file_atomic(path, text.as_bytes())
+        raylab_base::image_io::write_file_atomic(path, text.as_bytes())
             .map_err(|e| format!("{}: {e}", path.display()))
     }
 }
@@ -248,8 +248,8 @@ impl TileFile {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use raylab::math::Vec3;
-    use raylab::rng::Rng;
+    use glam::Vec3;
+    use raylab_base::rng::Rng;
 
     /// A standard normal number (Box-Muller).
     fn normal(rng: &mut Rng) -> f64 {

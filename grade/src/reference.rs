@@ -7,22 +7,18 @@
 //!
 //! A scene graded by the tile test ([`crate::noisy`]) has, beside its image, the tile means of
 //! the reference solution's renders (`<scene>.tiles.json`); its image is the average of the
-//! high-spp renders.
+//! high-spp renders. Making them is the instructor's (`render_references.rs`); this module only
+//! reads them, with the scene file's description alone, so grading links no renderer.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
-use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
 
 use crate::features::Masks;
-use crate::images::{film_to_image, read_png, write_png};
-use crate::noisy::{expected_seed, solution_seed, tile_means, NoisyReference, TileFile};
+use crate::images::read_png;
+use crate::noisy::{NoisyReference, TileFile};
 use crate::rubric::{GradedScene, Rubric, TileTest};
-use raylab::film::Film;
-use raylab::geometry::SplitMethod;
-use raylab::image_io::write_file_atomic;
-use raylab::scene::{Scene, World};
+use raylab_base::scene_desc::SceneDesc;
 
 /// `reference/manifest.toml`.
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
@@ -58,7 +54,7 @@ pub struct ReferenceEntry {
 pub const REFERENCE_DIRS: [&str; 2] = ["reference", "hidden/reference"];
 
 /// The folder of a scene's reference, relative to the repository root.
-fn reference_dir(hidden: bool) -> &'static str {
+pub(crate) fn reference_dir(hidden: bool) -> &'static str {
     REFERENCE_DIRS[hidden as usize]
 }
 
@@ -91,7 +87,7 @@ pub fn inputs_hash(scene_file: &Path) -> Result<String, String> {
     let read = |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
     let text = read(scene_file)?;
     let mut hash = fnv1a(&text, 0xcbf2_9ce4_8422_2325);
-    let desc: raylab::scene::desc::SceneDesc = toml::from_str(&String::from_utf8_lossy(&text))
+    let desc: SceneDesc = toml::from_str(&String::from_utf8_lossy(&text))
         .map_err(|e| format!("{}: {}", scene_file.display(), e.message()))?;
     for file in desc.objects.iter().filter_map(|o| o.file.as_ref()) {
         let mesh = scene_file.parent().unwrap_or(Path::new("")).join(file.get_ref());
@@ -139,61 +135,13 @@ impl Manifest {
     }
 }
 
-/// How a render in this process traces rays.
-pub type Tracing = for<'a> fn(&'a Scene) -> World<'a>;
-
-/// As a graded render traces: through checkpoint 4's binary tree. The references graded by SSIM
-/// and their masks are rendered so, which makes the solution's graded renders equal them bit
-/// for bit (a ray through an edge two objects share may hit either, and another tree may pick
-/// the other: 21 to 27 pixels of the 512 × 512 references did, SSIM 0.9995).
-pub const GRADED_TRACING: Tracing = |scene| World::new(scene, SplitMethod::ObjectMedian);
-
-/// The harness's wide BVH (the same closest hits, three to four times faster here), for the
-/// references of tile-tested scenes: they are compared by their tile means, where a tie at an
-/// edge is noise far below the renders' own.
-pub const FAST_TRACING: Tracing = |scene| World::wide(scene);
-
-/// Renders a graded scene in this process at `spp` with `seed`.
-pub fn render_scene(
-    root: &Path,
-    scene: &GradedScene,
-    spp: u32,
-    seed: u64,
-    tracing: Tracing,
-) -> Result<(Scene, Film), String> {
-    let loaded = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?;
-    let mut settings = loaded.settings;
-    settings.spp = spp;
-    settings.seed = seed;
-    let film = raylab::render::render(&tracing(&loaded), &settings, &|_| {});
-    Ok((loaded, film))
-}
-
-/// The reference of a tile-tested scene: its `reference_renders` high-spp renders (whose average
-/// is returned as the reference image) and `solution_renders` renders at the graded spp, as tile
-/// means written to [`tiles_path`].
-fn render_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> Result<(Scene, Film), String> {
-    let mut expected = Vec::new();
-    let mut average: Option<(Scene, Film)> = None;
-    for r in 0..test.reference_renders {
-        let (loaded, film) = render_scene(root, scene, scene.reference_spp, expected_seed(r), FAST_TRACING)?;
-        expected.push(tile_means(&film, test.tile));
-        let (_, sum) = average.get_or_insert_with(|| (loaded, Film::new(film.width(), film.height())));
-        let n = test.reference_renders as f32;
-        let pixels = sum.pixels().iter().zip(film.pixels()).map(|(s, p)| *s + *p / n).collect();
-        *sum = Film::from_pixels(film.width(), film.height(), pixels);
-    }
-    let mut solution = Vec::new();
-    for s in 0..test.solution_renders {
-        solution.push(tile_means(
-            &render_scene(root, scene, scene.spp, solution_seed(s), FAST_TRACING)?.1,
-            test.tile,
-        ));
-    }
-    let file =
-        TileFile { tile: test.tile, reference_spp: scene.reference_spp, spp: scene.spp, expected, solution };
-    file.write(&tiles_path(root, scene))?;
-    average.ok_or_else(|| format!("scene {}: tile_test needs reference renders", scene.name))
+/// The film size a scene renders at, from its file.
+fn film_size(root: &Path, scene: &GradedScene) -> Result<(u32, u32), String> {
+    let path = root.join(&scene.file);
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let desc: SceneDesc =
+        toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))?;
+    Ok((desc.camera.width, desc.camera.height))
 }
 
 /// The reference solution's tile means of a tile-tested scene, checked against the rubric.
@@ -205,8 +153,8 @@ pub fn load_tile_reference(
     let path = tiles_path(root, scene);
     let file = TileFile::read(&path)?;
     let counts = (file.expected.len() as u32, file.solution.len() as u32);
-    let camera = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?.camera;
-    let tiles = (camera.width().div_ceil(test.tile) * camera.height().div_ceil(test.tile)) as usize;
+    let (width, height) = film_size(root, scene)?;
+    let tiles = (width.div_ceil(test.tile) * height.div_ceil(test.tile)) as usize;
     if (file.tile, file.reference_spp, file.spp) != (test.tile, scene.reference_spp, scene.spp)
         || counts != (test.reference_renders, test.solution_renders)
         || file.expected.iter().chain(&file.solution).any(|r| r.len() != tiles)
@@ -219,68 +167,11 @@ pub fn load_tile_reference(
     Ok(file.reference())
 }
 
-/// Re-renders every reference image and mask and rewrites the manifest (the instructor's
-/// command; it must run on the reference solution).
-pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -> Result<Manifest, String> {
-    let mut manifest = Manifest::default();
-    for scene in &rubric.scenes {
-        let dir = root.join(reference_dir(scene.hidden));
-        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        progress.set_message(scene.name.clone());
-        let start = Instant::now();
-        let (loaded, film) = match &scene.tile_test {
-            None => render_scene(root, scene, scene.reference_spp, scene.seed, GRADED_TRACING)?,
-            Some(test) => render_tile_reference(root, scene, test)?,
-        };
-        let render_seconds = start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        // Timed as the grader's renders trace, through checkpoint 4's tree.
-        render_scene(root, scene, scene.spp, scene.seed, GRADED_TRACING)?;
-        let graded_render_seconds = start.elapsed().as_secs_f64();
-        write_png(&image_path(root, scene), &film_to_image(&film)).map_err(|e| e.to_string())?;
-        let masks = Masks::render(&GRADED_TRACING(&loaded));
-        write_png(&masks_path(root, scene), masks.image()).map_err(|e| e.to_string())?;
-        manifest.references.push(ReferenceEntry {
-            name: scene.name.clone(),
-            inputs_hash: inputs_hash(&root.join(&scene.file))?,
-            spp: scene.reference_spp,
-            seed: scene.seed,
-            raylab_version: env!("CARGO_PKG_VERSION").to_string(),
-            render_seconds: (render_seconds * 1000.0).round() / 1000.0,
-            graded_render_seconds: (graded_render_seconds * 1000.0).round() / 1000.0,
-        });
-        progress.inc(1);
-    }
-    // Each folder's manifest lists its own scenes, so the starter's has no word of hidden ones.
-    for hidden in [false, true] {
-        let names: Vec<&str> =
-            rubric.scenes.iter().filter(|s| s.hidden == hidden).map(|s| s.name.as_str()).collect();
-        if hidden && names.is_empty() {
-            continue;
-        }
-        let part = Manifest {
-            references: manifest
-                .references
-                .iter()
-                .filter(|r| names.contains(&r.name.as_str()))
-                .cloned()
-                .collect(),
-        };
-        let text = toml::to_string_pretty(&part).map_err(|e| e.to_string())?;
-        let path = root.join(reference_dir(hidden)).join("manifest.toml");
-        let header = "# Written by `grader update-references`; do not edit by hand.\n\n";
-        write_file_atomic(&path, format!("{header}{text}").as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-    }
-    Ok(manifest)
-}
-
 /// The reference image and masks of a scene, checked to be of the scene's film size.
 pub fn load_reference(root: &Path, scene: &GradedScene) -> Result<(image::RgbImage, Masks), String> {
     let image = read_png(&image_path(root, scene)).map_err(|e| e.to_string())?;
     let masks = read_png(&masks_path(root, scene)).map_err(|e| e.to_string())?;
-    let camera = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?.camera;
-    let film = (camera.width(), camera.height());
+    let film = film_size(root, scene)?;
     for (path, size) in
         [(image_path(root, scene), image.dimensions()), (masks_path(root, scene), masks.dimensions())]
     {

@@ -4,7 +4,8 @@
 //! The way is one direction: a scene file is parsed into a [`desc::SceneDesc`], checked and turned
 //! into a [`Scene`] (camera, world-space triangles, materials, lights); a [`World`] adds the BVH.
 
-pub mod desc;
+/// The scene file format, shared with the grader (base/src/scene_desc.rs).
+pub use raylab_base::scene_desc as desc;
 mod error;
 mod load;
 mod world;

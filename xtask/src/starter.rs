@@ -31,13 +31,16 @@ const INSTRUCTOR_ONLY: [&str; 13] = [
     "tests/hidden",
 ];
 
-/// The workspace section of the starter's `Cargo.toml`: the renderer and the grader only, in a
-/// workspace of its own, so the starter builds wherever it is unpacked.
+/// The workspace section of the starter's `Cargo.toml`: the renderer, what it shares with the
+/// grader, and the grader, in a workspace of its own, so the starter builds wherever it is
+/// unpacked.
 const STARTER_WORKSPACE: &str =
     "# The root package is the renderer, what you read and edit; `grade/` is the grader that gives
-# you feedback (`cargo grader`). `cargo test` at the root builds and tests the renderer alone.
+# you feedback (`cargo grader`); `base/` is what both use (film, image files, random numbers,
+# statistics, the scene format), none of it yours to edit, so your edits never rebuild the
+# grader. `cargo test` at the root builds and tests the renderer alone.
 [workspace]
-members = [\"grade\"]
+members = [\"base\", \"grade\"]
 ";
 
 /// Writes the starter into `out`, replacing what is there.

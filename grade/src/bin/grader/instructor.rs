@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Subcommand;
-use raylab::image_io::write_file_atomic;
+use raylab_base::image_io::write_file_atomic;
 use raylab_grade::calibrate::Sweep;
-use raylab_grade::reference::update_references;
+use raylab_grade::render_references::update_references;
 use raylab_grade::rubric::Rubric;
 use raylab_grade::variants::{make_scratch_tree, VariantFile};
 

@@ -17,7 +17,7 @@ mod instructor;
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use raylab::image_io::write_file_atomic;
+use raylab_base::image_io::write_file_atomic;
 use raylab_grade::grading::{grade, GradeOptions};
 use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};

@@ -1,6 +1,6 @@
 //! The film: a grid of linear RGB radiance values, one per pixel, row-major from the top left.
 
-use crate::math::Vec3;
+use glam::Vec3;
 
 /// Linear radiance per pixel (f32, unclamped). Encoding to sRGB happens only when writing.
 #[derive(Clone, Debug, PartialEq)]

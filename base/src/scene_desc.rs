@@ -11,7 +11,7 @@ use serde::de::Error as _;
 use serde::{Deserialize, Deserializer};
 use toml::Spanned;
 
-use crate::math::Vec3;
+use glam::Vec3;
 
 /// Largest film side accepted, in pixels.
 pub const MAX_RESOLUTION: u32 = 8192;

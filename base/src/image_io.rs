@@ -14,7 +14,7 @@ use std::io::{BufReader, Write};
 use std::path::{Path, PathBuf};
 
 use crate::film::Film;
-use crate::math::Vec3;
+use glam::Vec3;
 
 /// Errors reading or writing images; each names the file.
 #[derive(Debug)]
