@@ -2,6 +2,9 @@
 //! differ): the shape of the reference solution's trees over the graded scenes, and the work a
 //! primary ray costs. A change here is a change in BVH quality; review it with `cargo insta review`.
 
+// The renderer is linked by the instructor's grader only.
+#![cfg(feature = "instructor")]
+
 use std::fmt::Write;
 use std::path::Path;
 
