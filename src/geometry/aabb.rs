@@ -5,7 +5,8 @@
 //!
 //! **Maths.** The box is the intersection of three slabs `min_i ≤ x_i ≤ max_i`. Along axis `i` the
 //! ray is inside its slab for `t` between `(min_i − o_i) / d_i` and `(max_i − o_i) / d_i` (swap
-//! them when `d_i < 0`). The ray is in the box where it is in all three slabs at once:
+//! them when `inv_dir_i < 0`, which holds for `d_i = −0.0` too, where `d_i < 0` does not). The
+//! ray is in the box where it is in all three slabs at once:
 //!
 //! ```text
 //!   t_in  = max(t_min, near_x, near_y, near_z)

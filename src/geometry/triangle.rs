@@ -16,15 +16,18 @@
 //!
 //! **Conventions** ([`crate::math`]): the hit must have `t` in the ray's open range
 //! `(t_min, t_max)`; triangles are two-sided, so `det` may have either sign; edges are inside
-//! (`b = 0` is a hit), so a ray through an edge shared by two triangles hits at least one.
+//! (`b = 0` is a hit), so in exact arithmetic a ray through an edge shared by two triangles hits
+//! at least one (in floating point the two compute that edge differently and a ray may, rarely,
+//! pass between them; a watertight test, Woop et al. 2013, rules that out).
 //!
 //! **Pitfalls.**
 //! - Rejecting `det < 0` culls back faces: walls seen from inside and rays leaving glass vanish.
 //! - "Parallel" must be judged relative to the triangle's size: `|det| = |d| |e1 × e2| |cos θ|`,
 //!   so a bare `|det| < 1e-8` rejects small triangles seen head-on and accepts huge ones seen
-//!   edge-on. Compare `|det|` with `|e1 × e2|` instead; a degenerate triangle (`e1 × e2 = 0`)
-//!   then misses too. That comparison needs a square root: make it last, for the few rays that
-//!   pass every other test.
+//!   edge-on. Compare `|det|` with `|e1 × e2|` instead, with `<=`: a degenerate triangle
+//!   (`e1 × e2 = 0`, so `det = 0`) then misses too (with `<`, `0 < 0` is false and the division
+//!   by `det` gives a NaN hit). That comparison needs a square root: make it last, for the few
+//!   rays that pass every other test.
 //! - Test `b1` before computing `Q`, and `b1 + b2 ≤ 1`, not `b2 ≤ 1`.
 //! - Forgetting `t_max` makes the closest-hit search in the BVH (checkpoint 4) return far hits.
 //!
