@@ -382,16 +382,16 @@ fn run_unit_tests(
     phases.build += start.elapsed().as_secs_f64();
     progress.inc(1);
     let start = Instant::now();
-    let run = |filter: &str| match &built {
-        Ok(binaries) => binaries.run_filter(code, filter, env, TEST_TIME_LIMIT),
+    let run = |filter: &str, first: &[String]| match &built {
+        Ok(binaries) => binaries.run_filter(code, filter, first, env, TEST_TIME_LIMIT),
         Err(e) => TestRun { error: Some(format!("the tests do not compile: {e}")), ..TestRun::default() },
     };
     let mut runs = TestRuns::default();
     for c in checkpoints {
         progress.set_message(format!("testing checkpoint {}", c.id));
-        runs.public.insert(c.id, run(&c.test_filter));
+        runs.public.insert(c.id, run(&c.test_filter, &c.tests_first));
         if let Some(filter) = c.hidden.as_ref().and_then(|h| h.test_filter.as_deref()) {
-            runs.hidden.insert(c.id, run(filter).hidden());
+            runs.hidden.insert(c.id, run(filter, &[]).hidden());
         }
         progress.inc(1);
     }

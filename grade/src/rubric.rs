@@ -48,6 +48,10 @@ pub struct Checkpoint {
     pub hint: String,
     /// The handout, relative to the repository root.
     pub handout: PathBuf,
+    /// Tests (by function name) that run first, in this order: those whose failure names a common
+    /// mistake most plainly. The first of them that fails is the one a student is shown first.
+    #[serde(default)]
+    pub tests_first: Vec<String>,
     /// An extra (the global-illumination checkpoints): graded and reported like the others, but
     /// its points are not in the total. Set it to `false` to count them.
     #[serde(default)]
@@ -398,5 +402,34 @@ impl Rubric {
     /// Total points counted, hidden ones included, the extras' not.
     pub fn total_points(&self) -> f64 {
         self.checkpoints.iter().filter(|c| !c.extra).map(|c| c.all_test_points() + c.all_image_points()).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every test a checkpoint runs first is a test of that checkpoint: a misspelt name would
+    /// silently run in libtest's order instead.
+    #[test]
+    fn grader_runs_first_only_tests_that_exist() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let rubric = Rubric::load(&root.join(RUBRIC), &root).unwrap();
+        let mut sources = crate::stub::rust_files(&root.join("src")).unwrap();
+        sources.extend(crate::stub::rust_files(&root.join("tests/checkpoints")).unwrap());
+        for checkpoint in &rubric.checkpoints {
+            for name in &checkpoint.tests_first {
+                let defined = sources.iter().any(|(_, text)| {
+                    text.contains(&format!("mod {}", checkpoint.test_filter))
+                        && text.contains(&format!("fn {name}()"))
+                });
+                assert!(
+                    defined,
+                    "checkpoint {}: no test `{name}` in a `{}` module",
+                    checkpoint.id, checkpoint.test_filter
+                );
+            }
+        }
+        assert!(rubric.checkpoints.iter().any(|c| !c.tests_first.is_empty()));
     }
 }

@@ -111,50 +111,57 @@ fn list_tests(root: &Path, executable: &Path) -> Result<Vec<String>, String> {
 
 impl TestBinaries {
     /// Runs every test whose name contains `filter`, each alone in its own process (in `root`,
-    /// with `env` added), for at most `limit` in all; a test passes if its process exits 0.
-    /// After a test that does not finish in time, the remaining ones count as failed without
-    /// running: an endless loop costs one time limit, not one per test.
+    /// with `env` added), for at most `limit` in all; a test passes if its process exits 0. Tests
+    /// whose function is named in `first` run first, in that order, so the first failure is the
+    /// most telling one. After a test that does not finish in time, the remaining ones count as
+    /// failed without running: an endless loop costs one time limit, not one per test.
     pub fn run_filter(
         &self,
         root: &Path,
         filter: &str,
+        first: &[String],
         env: &[(String, String)],
         limit: Duration,
     ) -> TestRun {
         let start = Instant::now();
         let mut result = TestRun::default();
         let mut timed_out = false;
-        for binary in &self.binaries {
-            for name in binary.tests.iter().filter(|t| t.contains(filter)) {
-                if timed_out {
+        let mut tests: Vec<(&TestBinary, &String)> = self
+            .binaries
+            .iter()
+            .flat_map(|b| b.tests.iter().filter(|t| t.contains(filter)).map(move |t| (b, t)))
+            .collect();
+        let function = |name: &str| name.rsplit("::").next().unwrap_or(name).to_string();
+        tests.sort_by_key(|(_, name)| first.iter().position(|f| *f == function(name)).unwrap_or(first.len()));
+        for (binary, name) in tests {
+            if timed_out {
+                result.failed += 1;
+                result.failures.push(name.clone());
+                continue;
+            }
+            let left = limit.saturating_sub(start.elapsed());
+            if left.is_zero() {
+                result.error =
+                    Some(format!("the tests took longer than {:.0} s in all", limit.as_secs_f64()));
+                return result;
+            }
+            let mut command = Command::new(&binary.executable);
+            command.current_dir(root).env(CHILD_ENV, "1").envs(env.iter().map(|(k, v)| (k, v)));
+            command.args(["--exact", name, "--test-threads", "1"]);
+            let this_limit = left.min(TEST_TIME_LIMIT);
+            match run_limited(command, this_limit, Limits::GRADED) {
+                Ok(run) if run.success() => result.passed += 1,
+                Ok(run) => {
+                    timed_out = run.status.is_none();
                     result.failed += 1;
                     result.failures.push(name.clone());
-                    continue;
+                    if result.first_failure.is_none() {
+                        result.first_failure = Some((name.clone(), failure_message(&run, this_limit)));
+                    }
                 }
-                let left = limit.saturating_sub(start.elapsed());
-                if left.is_zero() {
-                    result.error =
-                        Some(format!("the tests took longer than {:.0} s in all", limit.as_secs_f64()));
+                Err(e) => {
+                    result.error = Some(format!("cannot run {}: {e}", binary.executable.display()));
                     return result;
-                }
-                let mut command = Command::new(&binary.executable);
-                command.current_dir(root).env(CHILD_ENV, "1").envs(env.iter().map(|(k, v)| (k, v)));
-                command.args(["--exact", name, "--test-threads", "1"]);
-                let this_limit = left.min(TEST_TIME_LIMIT);
-                match run_limited(command, this_limit, Limits::GRADED) {
-                    Ok(run) if run.success() => result.passed += 1,
-                    Ok(run) => {
-                        timed_out = run.status.is_none();
-                        result.failed += 1;
-                        result.failures.push(name.clone());
-                        if result.first_failure.is_none() {
-                            result.first_failure = Some((name.clone(), failure_message(&run, this_limit)));
-                        }
-                    }
-                    Err(e) => {
-                        result.error = Some(format!("cannot run {}: {e}", binary.executable.display()));
-                        return result;
-                    }
                 }
             }
         }

@@ -1,12 +1,13 @@
 //! `grader watch`: the current checkpoint's tests and scenes again on every save, as rustlings
-//! does, moving on to the next checkpoint when one passes.
+//! does, moving on to the next checkpoint when one passes, and the ones that passed again with it,
+//! so a save that breaks an earlier checkpoint is named as the regression it is.
 //!
 //! The loop is written against two seams so it can be tested without files or builds: a
 //! [`Changes`] source that blocks until something was saved, and a `check` function that grades
 //! one checkpoint. The grader binary gives it [`Polling`] (modification times of the tree's Rust
 //! sources, scanned every 300 ms: no platform watcher needed) and [`grade`](crate::grading::grade).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
@@ -68,47 +69,95 @@ impl Changes for Polling {
 
 /// Watches from checkpoint `first` to `last`: grades the current one with `check`, prints one
 /// line when it passes and moves on, or prints what to look at first and waits for a save.
-/// Returns when every checkpoint up to `last` passes or `changes` stops.
+/// After every save, the checkpoints that passed are graded again with the current one, and one
+/// that fails now is named as a regression and becomes the current one. With `stamped` (output
+/// that is not a terminal) each round starts with the time. Returns when every checkpoint up to
+/// `last` passes or `changes` stops.
 pub fn watch(
     changes: &mut impl Changes,
-    mut check: impl FnMut(u32) -> Result<CheckpointResult, String>,
-    first: u32,
-    last: u32,
+    mut check: impl FnMut(&[u32]) -> Result<Vec<CheckpointResult>, String>,
+    (first, last): (u32, u32),
+    stamped: bool,
     out: &mut impl Write,
 ) -> std::io::Result<()> {
+    let mut passed: BTreeSet<u32> = BTreeSet::new();
     let mut current = first;
+    let mut saved = false;
     while current <= last {
-        writeln!(out, "checking checkpoint {current}...")?;
+        let ids: Vec<u32> =
+            if saved { passed.iter().copied().chain([current]).collect() } else { vec![current] };
+        let again = if ids.len() > 1 {
+            format!(" (and again {})", list(&ids[..ids.len() - 1]))
+        } else {
+            String::new()
+        };
+        writeln!(
+            out,
+            "{}checking checkpoint {current}{again}...",
+            if stamped { stamp() } else { String::new() }
+        )?;
         out.flush()?;
-        match check(current) {
-            Ok(result) if (result.score() - result.max_score(true)).abs() < 1e-9 => {
+        saved = false;
+        let results = match check(&ids) {
+            Ok(results) => results,
+            Err(e) => {
+                writeln!(out, "checkpoint {current}: cannot grade: {e}")?;
+                Vec::new()
+            }
+        };
+        let full = |r: &CheckpointResult| (r.score() - r.max_score(true)).abs() < 1e-9;
+        let regressions: Vec<&CheckpointResult> =
+            results.iter().filter(|r| passed.contains(&r.checkpoint.id) && !full(r)).collect();
+        for r in &regressions {
+            let id = r.checkpoint.id;
+            writeln!(out, "checkpoint {id} passed before and fails now: {}", first_problem(r))?;
+            passed.remove(&id);
+            current = current.min(id);
+        }
+        match results.iter().find(|r| r.checkpoint.id == current) {
+            Some(result) if regressions.is_empty() && full(result) => {
                 writeln!(
                     out,
                     "checkpoint {current} passes: {:.1}/{:.0}",
                     result.score(),
                     result.max_score(true)
                 )?;
+                passed.insert(current);
                 current += 1;
                 continue;
             }
-            Ok(result) => {
+            Some(result) if regressions.is_empty() => {
                 writeln!(out, "checkpoint {current}: {:.1}/{:.0}", result.score(), result.max_score(true))?;
-                writeln!(out, "  {}", first_problem(&result))?;
-                writeln!(
-                    out,
-                    "  {}",
-                    result.advice.clone().unwrap_or_else(|| hint_text(&result.checkpoint))
-                )?;
+                writeln!(out, "  {}", first_problem(result))?;
+                let advice = result.advice.clone().unwrap_or_else(|| hint_text(&result.checkpoint));
+                writeln!(out, "  {advice}")?;
             }
-            Err(e) => writeln!(out, "checkpoint {current}: cannot grade: {e}")?,
+            _ => {}
         }
         writeln!(out, "waiting for a save...")?;
         out.flush()?;
         if !changes.wait() {
             return Ok(());
         }
+        saved = true;
     }
     writeln!(out, "every checkpoint up to {last} passes")
+}
+
+/// "2, 3 and 4".
+fn list(ids: &[u32]) -> String {
+    let words: Vec<String> = ids.iter().map(u32::to_string).collect();
+    match words.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => words.join(""),
+    }
+}
+
+/// "[14:03:27] ": the time of day (UTC), for a log read later.
+fn stamp() -> String {
+    let seconds =
+        SystemTime::now().duration_since(SystemTime::UNIX_EPOCH).map_or(0, |d| d.as_secs()) % 86_400;
+    format!("[{:02}:{:02}:{:02} UTC] ", seconds / 3600, seconds / 60 % 60, seconds % 60)
 }
 
 /// The first failing test with what it said, else the first reason points were lost.
@@ -158,12 +207,15 @@ mod tests {
     fn grader_watch_waits_on_a_failing_checkpoint_and_moves_on_when_it_passes() {
         // Checkpoint 2 fails twice (two saves), then passes; checkpoint 3 passes at once.
         let mut runs = 0;
-        let check = |id: u32| {
+        let check = |ids: &[u32]| {
             runs += 1;
-            Ok(if id == 2 && runs <= 2 { result(2, 9, 1) } else { result(id, 10, 0) })
+            Ok(ids
+                .iter()
+                .map(|&id| if id == 2 && runs <= 2 { result(2, 9, 1) } else { result(id, 10, 0) })
+                .collect())
         };
         let mut out = Vec::new();
-        watch(&mut Saves(10), check, 2, 3, &mut out).unwrap();
+        watch(&mut Saves(10), check, (2, 3), false, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert_eq!(text.matches("waiting for a save").count(), 2, "{text}");
         assert!(text.contains("first failing test: the_back_face_is_hit_too: no hit"), "{text}");
@@ -171,12 +223,43 @@ mod tests {
         let passes: Vec<&str> = text.lines().filter(|l| l.contains("passes:")).collect();
         assert_eq!(passes.len(), 2, "{text}");
         assert!(text.ends_with("every checkpoint up to 3 passes\n"), "{text}");
+        assert!(!text.contains('['), "no time stamps on a terminal: {text}");
+    }
+
+    /// Checkpoint 2 passes, checkpoint 3 fails; a save breaks checkpoint 2: it is graded again
+    /// with 3, named as a regression, and is the current checkpoint until it passes again.
+    #[test]
+    fn grader_watch_names_a_regression_of_a_checkpoint_that_passed() {
+        let mut graded: Vec<Vec<u32>> = Vec::new();
+        let check = |ids: &[u32]| {
+            graded.push(ids.to_vec());
+            let broken = graded.len() == 3;
+            Ok(ids
+                .iter()
+                .map(|&id| if id == 3 || (id == 2 && broken) { result(id, 9, 1) } else { result(id, 10, 0) })
+                .collect())
+        };
+        let mut out = Vec::new();
+        watch(&mut Saves(3), check, (2, 3), true, &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert_eq!(graded, [vec![2], vec![3], vec![2, 3], vec![2], vec![3]], "{text}");
+        assert!(text.contains("checkpoint 2 passed before and fails now: first failing test"), "{text}");
+        assert!(text.contains("checking checkpoint 3 (and again 2)..."), "{text}");
+        let rounds: Vec<&str> = text.lines().filter(|l| l.contains("checking")).collect();
+        assert!(rounds.iter().all(|l| l.starts_with('[') && l.contains(" UTC] ")), "{text}");
     }
 
     #[test]
     fn grader_watch_stops_when_the_saves_stop() {
         let mut out = Vec::new();
-        watch(&mut Saves(1), |_| Ok(result(2, 0, 10)), 2, 7, &mut out).unwrap();
+        watch(
+            &mut Saves(1),
+            |ids: &[u32]| Ok(ids.iter().map(|&id| result(id, 0, 10)).collect()),
+            (2, 7),
+            false,
+            &mut out,
+        )
+        .unwrap();
         let text = String::from_utf8(out).unwrap();
         assert_eq!(text.matches("checkpoint 2: ").count(), 1, "{text}");
         assert!(!text.contains("every checkpoint"), "{text}");

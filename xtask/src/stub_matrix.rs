@@ -39,7 +39,7 @@ pub fn stub_matrix() -> Result<(), String> {
             .map_err(|e| format!("stub {n}: the tests do not build: {e}"))?;
         let mut row = format!("checkpoint {n} stubbed:");
         for (m, filter) in (1..=n).flat_map(|m| filters(m).into_iter().map(move |f| (m, f))) {
-            let run = binaries.run_filter(&tree, &filter, &[], Duration::from_secs(300));
+            let run = binaries.run_filter(&tree, &filter, &[], &[], Duration::from_secs(300));
             row += &format!("  {filter}: {}/{}", run.passed, run.passed + run.failed);
             let ok = if m < n {
                 run.error.is_none() && run.failed == 0 && run.passed > 0

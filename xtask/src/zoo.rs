@@ -30,7 +30,7 @@ pub fn zoo() -> Result<(), String> {
         // the harness's own snapshots describe the reference solution and may differ).
         let filter = if v.correct { "checkpoint".to_string() } else { format!("checkpoint{}", v.checkpoint) };
         let tests = match build_tests(&tree, Some(&target), Duration::from_secs(900)) {
-            Ok(binaries) => binaries.run_filter(&tree, &filter, &[], Duration::from_secs(300)),
+            Ok(binaries) => binaries.run_filter(&tree, &filter, &[], &[], Duration::from_secs(300)),
             Err(e) => return Err(format!("{}: does not build: {e}", v.name)),
         };
         let failing_tests: Vec<String> =

@@ -247,13 +247,13 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> 
 fn watch(root: &Path, from: u32) -> Result<ExitCode, String> {
     let rubric = raylab_grade::rubric::Rubric::of_tree(root)?;
     let last = rubric.checkpoints.iter().map(|c| c.id).max().unwrap_or(from);
-    let check = |id: u32| {
-        let options = GradeOptions { checkpoints: Some(vec![id]), ..GradeOptions::new(root) };
-        let report = grade(&options, &ProgressBar::hidden())?;
-        report.checkpoints.into_iter().next().ok_or_else(|| format!("no checkpoint {id} in the rubric"))
+    let check = |ids: &[u32]| {
+        let options = GradeOptions { checkpoints: Some(ids.to_vec()), ..GradeOptions::new(root) };
+        Ok(grade(&options, &ProgressBar::hidden())?.checkpoints)
     };
     let mut changes = raylab_grade::watch::Polling::new(&root.join("src"));
-    raylab_grade::watch::watch(&mut changes, check, from, last, &mut std::io::stdout())
+    let stamped = !std::io::stdout().is_terminal();
+    raylab_grade::watch::watch(&mut changes, check, (from, last), stamped, &mut std::io::stdout())
         .map_err(|e| format!("cannot write: {e}"))?;
     Ok(ExitCode::SUCCESS)
 }
