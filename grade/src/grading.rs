@@ -303,6 +303,8 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
 
     let code = options.code.as_deref().unwrap_or(root);
     let test_steps = if options.run_tests { tested.len() + 1 } else { 0 };
+    // Each grade counts its own steps from 0, also when a caller grades several times with one bar.
+    progress.set_position(0);
     progress.set_length((test_steps + 1 + scenes.len()) as u64);
     let target = options.target.as_deref();
     let mut phases = Phases::default();

@@ -234,3 +234,18 @@ fn grader_watch_moves_past_a_passing_checkpoint_and_ends() {
         "{text}"
     );
 }
+
+/// A progress bar shared by several grades (as `grader submission` shares one) counts each grade's
+/// steps from 0 to that grade's own total.
+#[test]
+fn grader_progress_counts_up_to_its_own_total_every_time() {
+    let bar = indicatif::ProgressBar::hidden();
+    for _ in 0..2 {
+        let options = raylab_grade::grading::GradeOptions {
+            checkpoints: Some(vec![2]),
+            ..raylab_grade::grading::GradeOptions::new(root())
+        };
+        raylab_grade::grading::grade(&options, &bar).unwrap();
+        assert_eq!(Some(bar.position()), bar.length());
+    }
+}
