@@ -4,7 +4,8 @@
 //! `cargo xtask stub-matrix` proves, for each checkpoint N stubbed alone, that every checkpoint-N
 //! test fails and every test of the checkpoints before N passes; `cargo xtask zoo` runs the mistake
 //! catalogue and writes which check catches each mistake; `cargo xtask gradescope-dry-run` runs
-//! the Gradescope autograder's life cycle on a scratch root.
+//! the Gradescope autograder's life cycle on a scratch root; `cargo xtask first-build` and
+//! `cargo xtask student-loop` time a student's first build and their edit-and-grade loop.
 //!
 //! The starter is the whole repository with every solution region replaced by its stub
 //! (`todo!("checkpoint N: ...")`, see `raylab_grade::stub`), and without what only instructors
@@ -16,6 +17,7 @@ mod first_build;
 mod gradescope;
 mod starter;
 mod stub_matrix;
+mod student_loop;
 mod zoo;
 
 use std::path::{Path, PathBuf};
@@ -45,6 +47,13 @@ enum Command {
     /// Time a student's first `cargo test checkpoint2` in a fresh starter with a cold target
     /// folder, and the edit-to-result time after one edit (docs/PERFORMANCE.md).
     FirstBuild,
+    /// Time a student's loop in a fresh starter: a save in checkpoint N's region to the exit of
+    /// `cargo grader --checkpoint N`, for N = 2 to 7 (docs/PERFORMANCE.md).
+    StudentLoop {
+        /// Saves timed per checkpoint (the median is printed).
+        #[arg(long, default_value_t = 5)]
+        runs: usize,
+    },
     /// Package the tree for Gradescope, unpack it in a scratch root, run setup.sh, and
     /// run_autograder on the solution, the starter and two hostile submissions.
     GradescopeDryRun,
@@ -61,6 +70,7 @@ fn main() -> ExitCode {
         Command::StubMatrix => stub_matrix::stub_matrix(),
         Command::Zoo => zoo::zoo(),
         Command::FirstBuild => first_build::first_build(),
+        Command::StudentLoop { runs } => student_loop::student_loop(runs),
         Command::GradescopeDryRun => gradescope::gradescope_dry_run(),
     };
     match result {
