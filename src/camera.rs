@@ -72,6 +72,7 @@ impl Camera {
 mod checkpoint1 {
     use super::*;
 
+    #[track_caller]
     fn assert_dir(got: Vec3, want: Vec3) {
         assert!((got - want.normalize()).length() < 1e-6, "{got} vs {want}");
     }

@@ -47,6 +47,7 @@ fn random_ray(rng: &mut Rng) -> Ray {
 
 /// Builds a tree over `triangles` with `method` and checks `rays` random rays against testing
 /// every triangle: the same closest `t`, and any-hit agreeing with closest-hit.
+#[track_caller]
 pub fn check_against_brute_force(triangles: &[Triangle], method: SplitMethod, rays: usize, rng: &mut Rng) {
     let bvh = Bvh::build(triangles, method);
     let mut stats = TraversalStats::default();
@@ -57,6 +58,7 @@ pub fn check_against_brute_force(triangles: &[Triangle], method: SplitMethod, ra
 
 /// [`check_against_brute_force`] for any tracer: `trace(ray, any_hit)` answers as
 /// [`Bvh::traverse`] does.
+#[track_caller]
 pub fn check_tracer_against_brute_force(
     triangles: &[Triangle],
     rays: usize,
@@ -174,6 +176,7 @@ pub fn scene_from_toml_at(body: &str, path: &std::path::Path) -> crate::scene::S
 /// An estimator's mean equals the closed form `want` by a t-test at p > 1e-3 (a correct
 /// estimator fails one run in a thousand; with the tests' tens of thousands of samples the
 /// standard error is well under 1% of the mean, so a bias of a few percent fails).
+#[track_caller]
 pub fn assert_mean(got: &crate::stats::Summary, want: f64) {
     let se = got.variance_of_mean().sqrt();
     let t = (got.mean - want) / se;

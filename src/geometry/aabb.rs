@@ -134,6 +134,7 @@ mod checkpoint3 {
         Aabb::new(Vec3::ZERO, Vec3::ONE)
     }
 
+    #[track_caller]
     fn assert_interval(got: Option<(f32, f32)>, t_in: f32, t_out: f32) {
         let (a, b) = got.unwrap_or_else(|| panic!("expected a hit [{t_in}, {t_out}]"));
         assert!((a - t_in).abs() < 1e-6 && (b - t_out).abs() < 1e-6, "[{a}, {b}] vs [{t_in}, {t_out}]");

@@ -198,6 +198,7 @@ mod tests {
 
     /// A closed mesh wound outward has every edge used once in each direction, and encloses
     /// positive volume (the sum of signed tetrahedra from the origin).
+    #[track_caller]
     fn assert_closed_and_outward(mesh: &TriangleMesh, volume: f32, tol: f32) {
         let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
         for &[a, b, c] in &mesh.indices {

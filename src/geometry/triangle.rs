@@ -225,15 +225,26 @@ mod checkpoint2 {
         }
     }
 
+    /// A degenerate triangle has `e1 × e2 = 0`, so `det = 0`: a parallel test `|det| < k |e1 × e2|`
+    /// lets it through (`0 < 0` is false) and the division by `det` gives NaN.
+    #[track_caller]
+    fn assert_degenerate_miss(what: &str, got: Option<TriangleHit>) {
+        assert!(
+            got.is_none(),
+            "{what}: expected a miss, got {got:?}; det = 0 here: compare with `<=`, not `<`"
+        );
+    }
+
     #[test]
     fn parallel_rays_and_degenerate_triangles_miss() {
         let (p0, p1, p2) = unit_triangle();
         let in_plane = Ray::new(Vec3::new(-1.0, 0.2, 0.0), Vec3::X);
-        assert!(intersect_triangle(&in_plane, p0, p1, p2).is_none(), "ray in the plane");
+        let got = intersect_triangle(&in_plane, p0, p1, p2);
+        assert!(got.is_none(), "a ray in the triangle's plane: expected a miss, got {got:?}");
         let sliver = (Vec3::ZERO, Vec3::X, Vec3::new(2.0, 0.0, 0.0));
         let down = ray_down_at(0.5, 0.0);
-        assert!(intersect_triangle(&down, sliver.0, sliver.1, sliver.2).is_none(), "collinear");
-        assert!(intersect_triangle(&down, p0, p0, p0).is_none(), "a point");
+        assert_degenerate_miss("collinear vertices", intersect_triangle(&down, sliver.0, sliver.1, sliver.2));
+        assert_degenerate_miss("three equal vertices", intersect_triangle(&down, p0, p0, p0));
     }
 
     #[test]

@@ -112,6 +112,7 @@ mod checkpoint6 {
 
     /// Relative agreement to 1e-4: f32 rounding in a handful of operations is below 1e-6; the
     /// hit point's offset along the normal is 1e-4 of scene scale, and moves r² by less.
+    #[track_caller]
     fn assert_close(got: Vec3, want: f32) {
         assert!((got - Vec3::splat(want)).abs().max_element() <= 1e-4 * want.max(1e-3), "{got} vs {want}");
     }
