@@ -4,22 +4,8 @@
 //! Grading is a function of (the tree to build and test, its rubric, scenes and references):
 //! everything is found under [`GradeOptions::root`], never the current directory.
 //!
-//! **Who loses a failed scene's points.** A scene carries the image points of every checkpoint it
-//! `grades`, and runs the code of every checkpoint it `depends_on` (`cornell_refract` grades 6 but
-//! runs 2 to 6). The unit tests of all of those run, whatever was selected, so `--checkpoint N`
-//! gives checkpoint N the points `--all` gives it. When the scene fails, the *culprit* is the
-//! lowest checkpoint it depends on whose own unit tests do not all pass. A graded checkpoint
-//! before the culprit keeps the scene's points (its tests pass and the failure is explained
-//! elsewhere); the culprit loses them with its hint; one after it loses them with "fix checkpoint
-//! K first" and no hint of its own. If every unit test passes (or none ran), the failure cannot be
-//! pinned on one checkpoint and every graded one loses the points, with its hint.
-//!
-//! **Isolated blame.** When checkpoint N alone runs a submission's code and every other region
-//! is the solution's ([`Blame::Isolated`], `grader submission`'s grade), only N's code can have
-//! made a scene fail: it costs N, whatever the other checkpoints' tests say, and the reason says
-//! when their tests fail too ("checkpoint 5's tests fail with your checkpoint 2").
+//! Who loses a failed scene's points, and what its row says, is [`crate::points`]' concern.
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -32,10 +18,10 @@ use crate::child::{run_limited, Limits, CHILD_ENV};
 use crate::features::Masks;
 use crate::images::read_png;
 use crate::metrics::{Comparison, Measured};
-use crate::noisy::{compare, graded_seed, tile_means, tile_origin, NoisyReference, NoisyVerdict};
+use crate::noisy::{compare, graded_seed, tile_means, NoisyReference, NoisyVerdict};
+use crate::points::{explain_stub_stop, scene_status, score_checkpoint, Context, TestRuns};
 use crate::reference::{load_reference, load_tile_reference, Manifest};
-use crate::report::hint_text;
-use crate::rubric::{Check, Checkpoint, GradedScene, Metric, Rubric, TileTest};
+use crate::rubric::{Check, Checkpoint, GradedScene, Rubric, TileTest};
 use crate::ssim::SsimMap;
 use crate::stub::stubbed_checkpoints;
 use crate::unit_tests::{build_tests, TestRun};
@@ -77,11 +63,11 @@ pub struct GradeOptions {
     /// the reference solution's (calibration variants of later checkpoints): never for a
     /// submission, whose triangle test, boxes and traversal are judged in every render.
     pub wide_tile_renders: bool,
-    /// Who loses a failed scene's points (module docs).
+    /// Who loses a failed scene's points ([`crate::points`]).
     pub blame: Blame,
 }
 
-/// Who can have made a failed scene fail (module docs).
+/// Who can have made a failed scene fail ([`crate::points`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Blame {
     /// Every region runs the tree's own code: the lowest checkpoint whose tests fail.
@@ -129,6 +115,31 @@ pub struct SceneResult {
     pub ssim: Option<SsimMap>,
     /// The tile test's verdict, for a scene graded by one.
     pub tiles: Option<NoisyVerdict>,
+    /// What its row says, once the checkpoints are scored.
+    pub status: SceneStatus,
+}
+
+/// What a scene's row says ([`crate::points::scene_status`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SceneStatus {
+    /// Every check passed.
+    Passed,
+    /// It cost a graded checkpoint points.
+    Failed,
+    /// It failed, but costs the graded checkpoints nothing: why (a later checkpoint is not
+    /// written yet, or is wrong).
+    NotCounted(String),
+}
+
+impl SceneStatus {
+    /// The word of its row: `pass`, `FAIL`, or `-` (not counted).
+    pub fn word(&self) -> &'static str {
+        match self {
+            SceneStatus::Passed => "pass",
+            SceneStatus::Failed => "FAIL",
+            SceneStatus::NotCounted(_) => "-",
+        }
+    }
 }
 
 impl SceneResult {
@@ -147,6 +158,9 @@ pub struct CheckpointResult {
     pub tests: Option<TestRun>,
     /// Its hidden unit tests, if it has some and they ran.
     pub hidden_tests: Option<TestRun>,
+    /// How many of its (public) tests wait for a checkpoint not written yet, left out of its
+    /// fraction ([`crate::points`]).
+    pub waiting: usize,
     /// Points from the unit tests, hidden ones included.
     pub test_score: f64,
     /// Points from the scenes, hidden ones included.
@@ -169,16 +183,17 @@ impl CheckpointResult {
         self.checkpoint.all_image_points() + if tests_ran { self.checkpoint.all_test_points() } else { 0.0 }
     }
 
-    /// The unit tests passed, as a table cell: `9/10`, with the hidden ones beside:
-    /// `9/10 + hidden 2/3`.
+    /// The unit tests passed, as a table cell: `9/10`, with those waiting for another
+    /// checkpoint (`7/8 + 2 wait`) and the hidden ones beside: `9/10 + hidden 2/3`.
     pub fn tests_cell(&self) -> String {
-        let cell = |t: &TestRun| match &t.error {
-            None => format!("{}/{}", t.passed, t.passed + t.failed),
-            Some(_) => "error".to_string(),
+        let cell = |t: &TestRun, waiting: usize| match (&t.error, waiting) {
+            (None, 0) => format!("{}/{}", t.passed, t.passed + t.failed),
+            (None, w) => format!("{}/{} + {w} wait", t.passed, t.passed as usize + t.failed as usize - w),
+            (Some(_), _) => "error".to_string(),
         };
         match (&self.tests, &self.hidden_tests) {
-            (Some(t), Some(h)) => format!("{} + hidden {}", cell(t), cell(h)),
-            (Some(t), None) => cell(t),
+            (Some(t), Some(h)) => format!("{} + hidden {}", cell(t, self.waiting), cell(h, 0)),
+            (Some(t), None) => cell(t, self.waiting),
             (None, _) => "-".to_string(),
         }
     }
@@ -203,10 +218,24 @@ pub struct GradeReport {
     pub checkpoints: Vec<CheckpointResult>,
     /// Whether unit tests ran.
     pub tests_ran: bool,
+    /// The checkpoints not graded here whose code a graded scene runs: their tests ran (or were
+    /// skipped, not written yet) only to say who is to blame; they change no points.
+    pub needed: Vec<Needed>,
     /// Wall-clock seconds of the whole run.
     pub seconds: f64,
     /// ...and of its phases.
     pub phases: Phases,
+}
+
+/// A checkpoint not graded whose code a graded scene runs ([`GradeReport::needed`]).
+#[derive(Clone, Debug)]
+pub struct Needed {
+    /// The checkpoint.
+    pub checkpoint: Checkpoint,
+    /// Its unit tests, if they ran (not when it is not written yet).
+    pub tests: Option<TestRun>,
+    /// Whether its regions are all still the starter's stubs.
+    pub not_started: bool,
 }
 
 /// Wall-clock seconds of a grading run's phases.
@@ -289,19 +318,23 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         .filter(|c| options.checkpoints.as_ref().is_none_or(|ids| ids.contains(&c.id)))
         .collect();
     let scenes = selected_scenes(&rubric, options, &checkpoints)?;
-    // The selected checkpoints' tests, and those of every checkpoint a selected scene runs.
-    let tested: Vec<&Checkpoint> = rubric
-        .checkpoints
-        .iter()
-        .filter(|c| checkpoints.contains(c) || scenes.iter().any(|s| s.depends_on.contains(&c.id)))
-        .collect();
     let manifest = Manifest::load(root, &rubric)?;
     for scene in &scenes {
         manifest.fresh_entry(root, scene)?;
         load_reference(root, scene)?;
     }
-
     let code = options.code.as_deref().unwrap_or(root);
+    let stubbed = not_started(options, code, &rubric, &checkpoints)?;
+    // The selected checkpoints' tests, and those of every checkpoint a selected scene runs that
+    // is written (a stub's tests all fail: nothing to learn from running them).
+    let runs: Vec<u32> = scenes.iter().flat_map(|s| s.depends_on.iter().copied()).collect();
+    let needed = |c: &&Checkpoint| runs.contains(&c.id);
+    let tested: Vec<&Checkpoint> = rubric
+        .checkpoints
+        .iter()
+        .filter(|c| checkpoints.contains(c) || (needed(c) && !stubbed.contains(&c.id)))
+        .collect();
+
     let test_steps = if options.run_tests { tested.len() + 1 } else { 0 };
     // Each grade counts its own steps from 0, also when a caller grades several times with one bar.
     progress.set_position(0);
@@ -310,12 +343,6 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     let mut phases = Phases::default();
     let tests =
         options.run_tests.then(|| run_unit_tests(code, target, &options.env, &tested, progress, &mut phases));
-    let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
-    let stubbed = match &options.not_started {
-        Some(ids) => ids.clone(),
-        None => stubbed_checkpoints(&code.join("src"), &ids)
-            .map_err(|e| format!("{}/src: {e}", code.display()))?,
-    };
     progress.set_message("building the renderer");
     let built = Instant::now();
     let renderer = build_renderer(code, target).map_err(|e| format!("the renderer does not build: {e}"));
@@ -332,17 +359,48 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         progress.inc(1);
     }
     phases.renders = rendering.elapsed().as_secs_f64();
-    let checkpoint_results = checkpoints
+    let context = Context { tests: tests.as_ref(), stubbed: &stubbed, blame: options.blame };
+    let graded: Vec<u32> = checkpoints.iter().map(|c| c.id).collect();
+    for s in &mut scene_results {
+        explain_stub_stop(s, &context);
+        s.status = scene_status(s, &graded, &context);
+    }
+    let needed = rubric
+        .checkpoints
         .iter()
-        .map(|c| score_checkpoint(c, tests.as_ref(), &stubbed, &scene_results, options.blame))
+        .filter(|c| !checkpoints.contains(c) && needed(c))
+        .map(|c| Needed {
+            checkpoint: c.clone(),
+            tests: tests.as_ref().and_then(|t| t.public.get(&c.id).cloned()),
+            not_started: stubbed.contains(&c.id),
+        })
         .collect();
     Ok(GradeReport {
+        checkpoints: checkpoints.iter().map(|c| score_checkpoint(c, &scene_results, &context)).collect(),
         scenes: scene_results,
-        checkpoints: checkpoint_results,
         tests_ran: options.run_tests,
+        needed,
         seconds: start.elapsed().as_secs_f64(),
         phases,
     })
+}
+
+/// The checkpoints still the starter's stubs: given, or read from the code. In an isolated grade
+/// only the graded ones count (every other region is the solution's, whatever the submission's).
+fn not_started(
+    options: &GradeOptions,
+    code: &Path,
+    rubric: &Rubric,
+    checkpoints: &[&Checkpoint],
+) -> Result<Vec<u32>, String> {
+    let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
+    let stubbed = match &options.not_started {
+        Some(ids) => ids.clone(),
+        None => stubbed_checkpoints(&code.join("src"), &ids)
+            .map_err(|e| format!("{}/src: {e}", code.display()))?,
+    };
+    let counts = |id: &u32| options.blame == Blame::Culprit || checkpoints.iter().any(|c| c.id == *id);
+    Ok(stubbed.into_iter().filter(counts).collect())
 }
 
 /// The scenes to render: those named, or those grading a selected checkpoint.
@@ -489,6 +547,7 @@ fn grade_scene(
         reference,
         ssim: None,
         tiles: None,
+        status: SceneStatus::Failed,
     };
     let renderer = match renderer {
         Ok(renderer) => renderer,
@@ -570,324 +629,4 @@ fn tile_test(
     let checks = scene.graded_checks().into_iter().zip(measured).collect();
     result.tiles = Some(verdict);
     Ok((render, checks, ssim))
-}
-
-/// A reason names this many failing tests; `cargo test checkpointN` shows them all.
-const SHOWN_FAILURES: usize = 3;
-
-/// Each tested checkpoint's unit-test runs, by id: its public tests, and its hidden ones if it
-/// has any.
-#[derive(Clone, Debug, Default)]
-struct TestRuns {
-    public: BTreeMap<u32, TestRun>,
-    hidden: BTreeMap<u32, TestRun>,
-}
-
-/// The lowest checkpoint the scene runs whose own (public) tests do not all pass (module docs),
-/// if the tests ran.
-fn culprit(scene: &GradedScene, tests: Option<&TestRuns>) -> Option<u32> {
-    let tests = &tests?.public;
-    scene.depends_on.iter().copied().filter(|id| tests.get(id).is_none_or(|t| t.fraction() < 1.0)).min()
-}
-
-/// One part of a checkpoint's points: its public checks, or its hidden ones.
-struct Part<'a> {
-    /// `""` or `"hidden "`: how its reasons begin.
-    label: &'static str,
-    test_points: f64,
-    image_points: f64,
-    filter: &'a str,
-    tests: Option<&'a TestRun>,
-    scenes: Vec<&'a SceneResult>,
-}
-
-/// A part's points, why points were lost, and whether the checkpoint itself is to blame.
-#[derive(Default)]
-struct PartScore {
-    test_score: f64,
-    image_score: f64,
-    reasons: Vec<String>,
-    blamed: bool,
-}
-
-/// Test points by the fraction passed; image points by the culprit rule (module docs); the
-/// hidden checks, if any, scored the same way beside the public ones.
-/// `stubbed`: the checkpoints whose regions are all still the starter's `todo!()`.
-fn score_checkpoint(
-    checkpoint: &Checkpoint,
-    tests: Option<&TestRuns>,
-    stubbed: &[u32],
-    scenes: &[SceneResult],
-    blame: Blame,
-) -> CheckpointResult {
-    let id = checkpoint.id;
-    let graded = |hidden: bool| -> Vec<&SceneResult> {
-        scenes.iter().filter(|s| s.scene.hidden == hidden && s.scene.grades.contains(&id)).collect()
-    };
-    let public = Part {
-        label: "",
-        test_points: checkpoint.test_points,
-        image_points: checkpoint.image_points,
-        filter: &checkpoint.test_filter,
-        tests: tests.and_then(|t| t.public.get(&id)),
-        scenes: graded(false),
-    };
-    let hidden = checkpoint.hidden.as_ref().map(|h| Part {
-        label: "hidden ",
-        test_points: h.test_points,
-        image_points: h.image_points,
-        filter: h.test_filter.as_deref().unwrap_or_default(),
-        tests: tests.and_then(|t| t.hidden.get(&id)),
-        scenes: graded(true),
-    });
-    let mut total = PartScore::default();
-    if stubbed.contains(&id) && public.tests.is_some() {
-        total.reasons.push("not started: its code is still the starter's todo!()".to_string());
-    }
-    for part in std::iter::once(&public).chain(hidden.as_ref()) {
-        let score = score_part(id, part, tests, stubbed, blame);
-        total.test_score += score.test_score;
-        total.image_score += score.image_score;
-        total.reasons.extend(score.reasons);
-        total.blamed |= score.blamed;
-    }
-    let advice = if stubbed.contains(&id) {
-        Some(format!("Not started yet: read {} first.", checkpoint.handout.display()))
-    } else {
-        total.blamed.then(|| hint_text(checkpoint))
-    };
-    CheckpointResult {
-        checkpoint: checkpoint.clone(),
-        tests: public.tests.cloned(),
-        hidden_tests: hidden.and_then(|h| h.tests.cloned()),
-        test_score: total.test_score,
-        image_score: total.image_score,
-        reasons: total.reasons,
-        advice,
-    }
-}
-
-fn score_part(id: u32, part: &Part, tests: Option<&TestRuns>, stubbed: &[u32], blame: Blame) -> PartScore {
-    let not_started = |k: u32| stubbed.contains(&k);
-    let label = part.label;
-    let mut score = PartScore::default();
-    if let Some(t) = part.tests {
-        if not_started(id) {
-            // Said once for the whole checkpoint.
-        } else if let Some(e) = &t.error {
-            score.reasons.push(format!("{label}unit tests: {e}"));
-        } else if t.failed > 0 {
-            // The test's own name reads as a sentence; its module path is the checkpoint's.
-            let names: Vec<&str> = t.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f)).collect();
-            let more = names.len().saturating_sub(SHOWN_FAILURES);
-            let more = if more > 0 { format!(" and {more} more") } else { String::new() };
-            score.reasons.push(format!(
-                "{label}unit tests: {} of {} failed: {}{more}",
-                t.failed,
-                t.passed + t.failed,
-                names[..names.len().min(SHOWN_FAILURES)].join(", ")
-            ));
-        } else if t.passed == 0 {
-            score.reasons.push(format!("{label}unit tests: `cargo test {}` ran no test", part.filter));
-        }
-        score.blamed = t.fraction() < 1.0;
-        score.test_score = part.test_points * t.fraction();
-    }
-    let mut kept = 0usize;
-    for s in &part.scenes {
-        if s.passed() {
-            kept += 1;
-            continue;
-        }
-        let why = match (&s.error, s.scene.hidden) {
-            (Some(e), _) => e.clone(),
-            (None, true) => "the image differs from the reference".to_string(),
-            (None, false) => failed_checks(s),
-        };
-        let name = &s.scene.name;
-        match (blame, culprit(&s.scene, tests)) {
-            (Blame::Isolated, Some(k)) if k != id => {
-                score.blamed = true;
-                score.reasons.push(format!(
-                    "{label}scene {name}: {why} (checkpoint {k}'s tests fail with your checkpoint {id}: only checkpoint {id} is your code in this grade)"
-                ));
-            }
-            (Blame::Isolated, _) => {
-                score.blamed = true;
-                score.reasons.push(format!("{label}scene {name}: {why}"));
-            }
-            (_, Some(k)) if k > id => kept += 1,
-            (_, Some(k)) if k < id && not_started(k) => score.reasons.push(format!(
-                "{label}scene {name}: lost because checkpoint {k} is not started; write checkpoint {k} first"
-            )),
-            (_, Some(k)) if k < id => score.reasons.push(format!(
-                "{label}scene {name}: lost because checkpoint {k} is wrong (its unit tests fail); fix checkpoint {k} first ({why})"
-            )),
-            _ => {
-                score.blamed = true;
-                score.reasons.push(format!("{label}scene {name}: {why}"));
-            }
-        }
-    }
-    if !part.scenes.is_empty() {
-        score.image_score = part.image_points * kept as f64 / part.scenes.len() as f64;
-    }
-    score
-}
-
-/// "ssim: got 0.9120, needs >= 0.9900, ..." for the checks that failed.
-fn failed_checks(s: &SceneResult) -> String {
-    let failed: Vec<String> = s
-        .checks
-        .iter()
-        .filter(|(_, m)| !m.passed)
-        .map(|(c, m)| match (&s.tiles, c.metric) {
-            (Some(v), Metric::TileTest) => {
-                let tile = s.scene.tile_test.as_ref().map_or(1, |t| t.tile);
-                let (x, y) = tile_origin(v.failures[0].tile, tile, s.reference.width());
-                format!(
-                    "tile test: {} of {} tiles differ from the reference beyond their noise; the first, at pixels ({x}, {y}) to ({}, {}): {}",
-                    v.failures.len(),
-                    v.tile_p.len(),
-                    x + tile - 1,
-                    y + tile - 1,
-                    v.failures[0].reason
-                )
-            }
-            _ => format!("{}: got {:.4}, needs {}", c.label(), m.value, c.threshold_text()),
-        })
-        .collect();
-    failed.join(", ")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn root() -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-    }
-
-    /// The public rubric, without the hidden checks.
-    fn rubric() -> Rubric {
-        Rubric::load(&root().join(crate::rubric::RUBRIC), &root()).unwrap()
-    }
-
-    fn failed_scene(rubric: &Rubric, name: &str) -> SceneResult {
-        SceneResult {
-            scene: rubric.scenes.iter().find(|s| s.name == name).unwrap().clone(),
-            checks: Vec::new(),
-            error: Some("render differs".to_string()),
-            seconds: 0.0,
-            render: None,
-            reference: RgbImage::new(1, 1),
-            ssim: None,
-            tiles: None,
-        }
-    }
-
-    /// Every checkpoint's tests passing, but those `failing` (one of five fails).
-    fn runs(failing: impl Fn(u32) -> bool) -> TestRuns {
-        let run =
-            |id| TestRun { passed: 5 - failing(id) as u32, failed: failing(id) as u32, ..TestRun::default() };
-        TestRuns { public: (1..=9).map(|id| (id, run(id))).collect(), hidden: BTreeMap::new() }
-    }
-
-    fn scored(
-        rubric: &Rubric,
-        tests: &TestRuns,
-        stubbed: &[u32],
-        scenes: &[SceneResult],
-    ) -> Vec<CheckpointResult> {
-        rubric
-            .checkpoints
-            .iter()
-            .map(|c| score_checkpoint(c, Some(tests), stubbed, scenes, Blame::Culprit))
-            .collect()
-    }
-
-    /// A bug in checkpoint 2 fails every scene; each lost point names checkpoint 2, and only
-    /// checkpoint 2 gets advice.
-    #[test]
-    fn grader_blames_every_failed_scene_on_the_lowest_checkpoint_whose_tests_fail() {
-        let rubric = rubric();
-        let tests = runs(|id| id == 2);
-        let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
-        for c in scored(&rubric, &tests, &[], &scenes) {
-            let image_reasons: Vec<&String> = c.reasons.iter().filter(|r| r.starts_with("scene")).collect();
-            if c.checkpoint.id == 2 {
-                assert!(c.advice.is_some() && !image_reasons.is_empty());
-            } else {
-                assert!(c.advice.is_none(), "checkpoint {}: {:?}", c.checkpoint.id, c.advice);
-                assert!(
-                    image_reasons.iter().all(|r| r.contains("fix checkpoint 2 first")),
-                    "{image_reasons:?}"
-                );
-            }
-        }
-    }
-
-    /// Checkpoint 2 written, 3 to 9 still the starter's: checkpoint 2 keeps its image points,
-    /// and the later ones are "not started", with their handout.
-    #[test]
-    fn grader_gives_a_correct_checkpoint_its_points_when_later_ones_are_not_started() {
-        let rubric = rubric();
-        let tests = runs(|id| id > 2);
-        let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
-        let results = scored(&rubric, &tests, &[3, 4, 5, 6, 7, 8, 9], &scenes);
-        assert_eq!(results[1].score(), results[1].max_score(true));
-        for c in &results[2..] {
-            assert!(c.advice.as_deref().is_some_and(|a| a.starts_with("Not started")), "{:?}", c.advice);
-        }
-    }
-
-    /// A hidden scene that fails costs the hidden image points only, with a reason naming it as
-    /// hidden; the hidden tests' points come beside the public ones.
-    #[test]
-    fn grader_scores_hidden_checks_beside_the_public_ones() {
-        let rubric = Rubric::of_tree(&root()).unwrap();
-        let six = rubric.checkpoints.iter().find(|c| c.id == 6).unwrap();
-        let hidden = six.hidden.clone().expect("checkpoint 6 has hidden checks");
-        let mut tests = runs(|_| false);
-        tests.hidden.insert(6, TestRun { passed: 1, failed: 1, ..TestRun::default() });
-        let passed = |name: &str| SceneResult { error: None, ..failed_scene(&rubric, name) };
-        let scenes: Vec<SceneResult> = rubric
-            .scenes
-            .iter()
-            .map(|s| if s.hidden { failed_scene(&rubric, &s.name) } else { passed(&s.name) })
-            .collect();
-        let result = score_checkpoint(six, Some(&tests), &[], &scenes, Blame::Culprit);
-        assert_eq!(result.image_score, six.image_points);
-        assert_eq!(result.test_score, six.test_points + hidden.test_points / 2.0);
-        assert_eq!(result.max_score(true), six.all_test_points() + six.all_image_points());
-        assert!(
-            result.reasons.iter().any(|r| r.starts_with("hidden unit tests: 1 of 2 failed")),
-            "{:?}",
-            result.reasons
-        );
-        assert!(result.reasons.iter().any(|r| r.starts_with("hidden scene ")), "{:?}", result.reasons);
-        assert_eq!(result.tests_cell(), "5/5 + hidden 1/2");
-    }
-
-    /// Checkpoint 2 graded alone, the solution everywhere else: its bug fails every scene and
-    /// checkpoint 5's tests, and the scenes cost checkpoint 2 all the same, saying why; the
-    /// culprit rule would have kept them (a later checkpoint's tests fail).
-    #[test]
-    fn grader_blames_the_only_checkpoint_of_the_student_in_an_isolated_grade() {
-        let rubric = rubric();
-        let two = rubric.checkpoints.iter().find(|c| c.id == 2).unwrap();
-        let tests = runs(|id| id == 5);
-        let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
-        let culprit = score_checkpoint(two, Some(&tests), &[3, 4], &scenes, Blame::Culprit);
-        let isolated = score_checkpoint(two, Some(&tests), &[3, 4], &scenes, Blame::Isolated);
-        assert_eq!(culprit.image_score, two.image_points);
-        assert_eq!(isolated.image_score, 0.0);
-        assert!(isolated.advice.is_some());
-        assert!(
-            isolated.reasons.iter().any(|r| r.contains("checkpoint 5's tests fail with your checkpoint 2")),
-            "{:?}",
-            isolated.reasons
-        );
-        assert!(isolated.reasons.iter().all(|r| !r.contains("not started")), "{:?}", isolated.reasons);
-    }
 }

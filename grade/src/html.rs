@@ -7,14 +7,14 @@ use std::fmt::Write;
 use base64::Engine;
 use image::RgbImage;
 
-use crate::grading::{GradeReport, SceneResult};
+use crate::grading::{GradeReport, SceneResult, SceneStatus};
 use crate::heatmap::{heatmap, tile_map};
 use crate::noisy::{tile_origin, NoisyVerdict};
 use crate::rubric::TileTest;
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background:#fafafa;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\
-.pass{color:#176f2c;font-weight:bold}.fail{color:#b3261e;font-weight:bold}\
+.pass{color:#176f2c;font-weight:bold}.fail{color:#b3261e;font-weight:bold}.wait{color:#666;font-weight:bold}\
 .images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}img{width:256px;image-rendering:pixelated;border:1px solid #ccc}\
 td:last-child{max-width:60em;overflow-wrap:anywhere}.missing{width:256px;height:256px;background:#eee;display:flex;align-items:center;justify-content:center;color:#777}\
 section{background:#fff;padding:1em 1.5em;margin:1.5em 0;border-radius:6px;box-shadow:0 1px 3px #0002}\
@@ -43,6 +43,7 @@ pub fn page(report: &GradeReport) -> String {
             c.checkpoint.id, escape(&c.checkpoint.title), c.score(), c.max_score(report.tests_ran), reasons.join("<br>"));
     }
     h.push_str("</table>\n");
+    needed_list(&mut h, report);
     for s in &report.scenes {
         scene_section(&mut h, s, report);
     }
@@ -50,8 +51,32 @@ pub fn page(report: &GradeReport) -> String {
     h
 }
 
+/// The checkpoints not graded whose code the scenes run ([`GradeReport::needed`]).
+fn needed_list(h: &mut String, report: &GradeReport) {
+    if report.needed.is_empty() {
+        return;
+    }
+    h.push_str("<p>Not graded here, but the scenes below run their code (no points from them):</p><ul>");
+    for n in &report.needed {
+        let state = match (&n.tests, n.not_started) {
+            (_, true) => "not written yet".to_string(),
+            (Some(t), false) if t.error.is_none() => {
+                format!("tests {}/{} pass", t.passed, t.passed + t.failed)
+            }
+            _ => "tests did not run".to_string(),
+        };
+        let _ =
+            write!(h, "<li>checkpoint {} ({}): {state}</li>", n.checkpoint.id, escape(&n.checkpoint.title));
+    }
+    h.push_str("</ul>\n");
+}
+
 fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
-    let (class, word) = if s.passed() { ("pass", "pass") } else { ("fail", "FAIL") };
+    let (class, word) = match &s.status {
+        SceneStatus::Passed => ("pass", "pass"),
+        SceneStatus::Failed => ("fail", "FAIL"),
+        SceneStatus::NotCounted(_) => ("wait", "not counted"),
+    };
     let grades: Vec<String> = s.scene.grades.iter().map(u32::to_string).collect();
     let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}; rendered in {2:.1} s</p>",
         escape(&s.scene.name), grades.join(", "), s.seconds);
@@ -60,7 +85,12 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
     } else {
         h.push_str("<div class=\"images\">");
         figure(h, "reference", Some(&s.reference));
-        figure(h, "yours", s.render.as_ref());
+        let yours = match (&s.render, &s.status) {
+            (None, SceneStatus::NotCounted(_)) => "yours: no image yet",
+            (None, _) => "yours: the render failed (below)",
+            (Some(_), _) => "yours",
+        };
+        figure(h, yours, s.render.as_ref());
         let diff = s.ssim.as_ref().map(|ssim| heatmap(ssim, &s.reference));
         match (&s.tiles, &s.scene.tile_test) {
             (Some(verdict), Some(test)) => {
@@ -72,14 +102,41 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         }
         h.push_str("</div>\n");
     }
-    if let Some(e) = &s.error {
-        let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(e));
+    match (&s.status, &s.error) {
+        (SceneStatus::NotCounted(note), _) => {
+            let _ = writeln!(h, "<p class=\"wait\">{}</p>", escape(note));
+        }
+        (_, Some(e)) => {
+            let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(e));
+        }
+        _ => {}
     }
+    if !s.checks.is_empty() {
+        checks_table(h, s, class, word);
+    }
+    if let (Some(verdict), Some(test)) = (&s.tiles, &s.scene.tile_test) {
+        tile_failures(h, verdict, test, s.reference.width());
+    }
+    for c in report
+        .checkpoints
+        .iter()
+        .filter(|c| s.status == SceneStatus::Failed && s.scene.depends_on.contains(&c.checkpoint.id))
+    {
+        if let Some(advice) = &c.advice {
+            let _ = writeln!(h, "<p class=\"hint\">Checkpoint {}: {}</p>", c.checkpoint.id, escape(advice));
+        }
+    }
+    h.push_str("</section>\n");
+}
+
+/// A scene's checks, each with its value and threshold; a failed check says `word` in `class`
+/// (FAIL, or not counted).
+fn checks_table(h: &mut String, s: &SceneResult, class: &str, word: &str) {
     h.push_str(
         "<table class=\"checks\"><tr><th>check</th><th>value</th><th>threshold</th><th>result</th></tr>",
     );
     for (check, m) in &s.checks {
-        let (class, word) = if m.passed { ("pass", "pass") } else { ("fail", "FAIL") };
+        let (class, word) = if m.passed { ("pass", "pass") } else { (class, word) };
         let _ = write!(
             h,
             "<tr><td>{}</td><td>{:.4}</td><td>{}</td><td class=\"{class}\">{word}</td></tr>",
@@ -89,17 +146,6 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         );
     }
     h.push_str("</table>\n");
-    if let (Some(verdict), Some(test)) = (&s.tiles, &s.scene.tile_test) {
-        tile_failures(h, verdict, test, s.reference.width());
-    }
-    for c in
-        report.checkpoints.iter().filter(|c| !s.passed() && s.scene.depends_on.contains(&c.checkpoint.id))
-    {
-        if let Some(advice) = &c.advice {
-            let _ = writeln!(h, "<p class=\"hint\">Checkpoint {}: {}</p>", c.checkpoint.id, escape(advice));
-        }
-    }
-    h.push_str("</section>\n");
 }
 
 /// The first failing tiles of a tile test, where they are and why.
@@ -175,12 +221,14 @@ mod tests {
                 reference: image,
                 ssim: Some(ssim),
                 tiles: None,
+                status: SceneStatus::Passed,
             }
         };
         let report = |hidden: bool| GradeReport {
             scenes: vec![scene(hidden)],
             checkpoints: Vec::new(),
             tests_ran: false,
+            needed: Vec::new(),
             seconds: 0.0,
             phases: Phases::default(),
         };

@@ -21,6 +21,7 @@ pub mod metrics;
 pub mod noisy;
 pub mod package;
 pub mod plain;
+pub mod points;
 pub mod reference;
 #[cfg(feature = "instructor")]
 pub mod render_references;

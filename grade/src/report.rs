@@ -5,7 +5,7 @@ use std::path::Path;
 
 use serde_json::json;
 
-use crate::grading::GradeReport;
+use crate::grading::{GradeReport, SceneStatus};
 use crate::heatmap::{heatmap, tile_map};
 use crate::images::write_png;
 use crate::rubric::Checkpoint;
@@ -22,19 +22,21 @@ pub fn text(report: &GradeReport) -> String {
     for s in &report.scenes {
         let grades = s.scene.grades.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
         let time = format!("{:.1}s", s.seconds);
+        let word = s.status.word();
         if let Some(e) = &s.error {
             let _ = writeln!(
                 out,
                 "{:<18} {:<8} {:<22} {:>8} {:>10}  {:<6} {:>6}",
-                s.scene.name, grades, "render", "-", "-", "FAIL", time
+                s.scene.name, grades, "render", "-", "-", word, time
             );
-            let _ = writeln!(out, "{:<18} {e}", "");
-            continue;
+            if s.status == SceneStatus::Failed {
+                let _ = writeln!(out, "{:<18} {e}", "");
+            }
         }
         for (i, (check, m)) in s.checks.iter().enumerate() {
             let (name, grades, time) =
                 if i == 0 { (s.scene.name.as_str(), grades.as_str(), time.as_str()) } else { ("", "", "") };
-            let result = if m.passed { "pass" } else { "FAIL" };
+            let result = if m.passed { "pass" } else { word };
             let _ = writeln!(
                 out,
                 "{name:<18} {grades:<8} {:<22} {:>8.4} {:>10}  {result:<6} {time:>6}",
@@ -42,6 +44,9 @@ pub fn text(report: &GradeReport) -> String {
                 m.value,
                 check.threshold_text()
             );
+        }
+        if let SceneStatus::NotCounted(note) = &s.status {
+            let _ = writeln!(out, "{:<18} {note}", "");
         }
     }
     let _ = writeln!(out);
@@ -63,6 +68,7 @@ pub fn text(report: &GradeReport) -> String {
             let _ = writeln!(out, "      hint: {advice}");
         }
     }
+    needed_text(&mut out, report);
     let _ = writeln!(
         out,
         "\ntotal: {:.1} / {:.0} points{} in {:.1} s{}",
@@ -73,6 +79,36 @@ pub fn text(report: &GradeReport) -> String {
         if report.tests_ran { "" } else { " (images only: unit tests not run)" }
     );
     out
+}
+
+/// The checkpoints not graded whose code the scenes run, and what their tests say: they change
+/// no points here.
+fn needed_text(out: &mut String, report: &GradeReport) {
+    if report.needed.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "\nnot graded here, but the scenes above run their code (no points, exit code unchanged):"
+    );
+    for n in &report.needed {
+        let state = match (&n.tests, n.not_started) {
+            (_, true) => "not written yet".to_string(),
+            (Some(t), false) if t.error.is_none() && t.failed == 0 => {
+                format!("tests {}/{} pass", t.passed, t.passed)
+            }
+            (Some(t), false) if t.error.is_none() => {
+                let (passed, all) = (t.passed, t.passed + t.failed);
+                format!(
+                    "tests {passed}/{all} pass: `cargo test {}` says which fail",
+                    n.checkpoint.test_filter
+                )
+            }
+            (Some(_), false) => "its tests could not run".to_string(),
+            (None, false) => "tests not run".to_string(),
+        };
+        let _ = writeln!(out, "{:<3} {:<44} {state}", n.checkpoint.id, n.checkpoint.title);
+    }
 }
 
 /// `" (+ 7.5 / 10 extra, not counted)"`, or nothing without extras.

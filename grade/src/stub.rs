@@ -54,6 +54,19 @@ pub fn stub_body(text: &str, body: std::ops::Range<usize>, checkpoint: u32) -> S
     stub + &format!("{indent}todo!(\"{}\")\n", message.replace('{', "{{").replace('}', "}}"))
 }
 
+/// The checkpoint whose stub panicked, if `message` (a test's or a render's panic) holds the
+/// panic of a stub [`stub_body`] wrote: `not yet implemented: checkpoint K: write `...`.
+/// It says where a run stopped, not who wrote what: any code can panic with these words, so a
+/// caller trusts it only for a checkpoint whose regions are all stubs.
+pub fn stub_panic(message: &str) -> Option<u32> {
+    const PANIC: &str = "not yet implemented: checkpoint ";
+    message.match_indices(PANIC).find_map(|(i, _)| {
+        let rest = &message[i + PANIC.len()..];
+        let digits = rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(rest.len());
+        rest[digits..].starts_with(": write `").then(|| rest[..digits].parse().ok()).flatten()
+    })
+}
+
 /// Whether the body of the region of `checkpoint` at `body` in `text` is still the starter's
 /// stub: the very text [`stub_body`] writes for it, up to white space at the ends of lines and
 /// blank lines (an editor's reformatting). Any other text, a single character of code included,
@@ -186,6 +199,26 @@ mod tests {
         assert!(stub.contains(&expected), "{stub}");
         assert!(!stub.contains("radiance(pixel"));
         assert_eq!(stub_regions(SOLUTION, 6), SOLUTION, "other checkpoints untouched");
+    }
+
+    /// The stub's panic, as libtest and the renderer print it, names its checkpoint; other
+    /// panics and a near miss of the words do not.
+    #[test]
+    fn grader_reads_the_checkpoint_of_a_stubs_panic() {
+        let stub = stub_regions(SOLUTION, 7);
+        let message = stub.split("todo!(\"").nth(1).and_then(|m| m.split("\")").next()).unwrap();
+        let printed = format!("thread 'main' panicked at src/x.rs:3:5:\nnot yet implemented: {message}");
+        assert_eq!(stub_panic(&printed), Some(7));
+        assert_eq!(stub_panic("panicked: not yet implemented: checkpoint 12: write `f`"), Some(12));
+        for other in [
+            "not yet implemented",
+            "not yet implemented: checkpoint 4",
+            "not yet implemented: checkpoint x: write `f`",
+            "not yet implemented: checkpoint 4: wrote `f`",
+            "assertion failed: checkpoint 4: write `f`",
+        ] {
+            assert_eq!(stub_panic(other), None, "{other}");
+        }
     }
 
     #[test]

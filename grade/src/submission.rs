@@ -108,6 +108,7 @@ pub fn grade_submission(
         scenes: cumulative.scenes.clone(),
         checkpoints,
         tests_ran: true,
+        needed: Vec::new(),
         seconds: start.elapsed().as_secs_f64(),
         phases,
     };

@@ -12,6 +12,8 @@ use std::time::{Duration, Instant};
 
 use crate::cargo::{cargo, executables, first_error};
 use crate::child::{quote, run_limited, run_with_limit, Limits, CHILD_ENV};
+use crate::stub::stub_panic;
+
 /// What one `cargo test <filter>` run found.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TestRun {
@@ -25,6 +27,9 @@ pub struct TestRun {
     pub error: Option<String>,
     /// The first failing test and what it said (for a student: where to look first).
     pub first_failure: Option<(String, String)>,
+    /// The failing tests that stopped in a stub's `todo!()`, with the stub's checkpoint, as
+    /// their panic message says ([`crate::stub::stub_panic`]).
+    pub stub_panics: Vec<(String, u32)>,
 }
 
 impl TestRun {
@@ -32,7 +37,7 @@ impl TestRun {
     /// text a test or the compiler wrote.
     pub fn hidden(self) -> TestRun {
         let error = self.error.map(|_| "the hidden tests could not run".to_string());
-        TestRun { error, first_failure: None, ..self }
+        TestRun { error, first_failure: None, stub_panics: Vec::new(), ..self }
     }
 
     /// The fraction of tests passed; 0 when the run went wrong or ran nothing.
@@ -155,9 +160,11 @@ impl TestBinaries {
                     timed_out = run.status.is_none();
                     result.failed += 1;
                     result.failures.push(name.clone());
-                    if result.first_failure.is_none() {
-                        result.first_failure = Some((name.clone(), failure_message(&run, this_limit)));
+                    let message = failure_message(&run, this_limit);
+                    if let Some(k) = stub_panic(&message) {
+                        result.stub_panics.push((name.clone(), k));
                     }
+                    result.first_failure.get_or_insert_with(|| (name.clone(), message));
                 }
                 Err(e) => {
                     result.error = Some(format!("cannot run {}: {e}", binary.executable.display()));

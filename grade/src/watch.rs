@@ -195,6 +195,7 @@ mod tests {
         CheckpointResult {
             tests: Some(TestRun { passed, failed, first_failure, ..TestRun::default() }),
             hidden_tests: None,
+            waiting: 0,
             test_score: checkpoint.test_points * fraction,
             image_score: checkpoint.image_points * fraction.floor(),
             reasons: Vec::new(),
