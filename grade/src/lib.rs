@@ -5,6 +5,7 @@
 //! made with them, [`ssim`] and [`metrics`] score a render.
 
 pub mod allow;
+pub mod baseline;
 pub mod batch;
 pub mod calibrate;
 pub mod cargo;

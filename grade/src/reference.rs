@@ -82,11 +82,19 @@ fn fnv1a(bytes: &[u8], mut hash: u64) -> u64 {
     hash
 }
 
+/// [`fnv1a`] of `bytes` from the standard offset basis, as 16 hex digits.
+pub fn fnv1a_hex(bytes: &[u8]) -> String {
+    format!("{:016x}", fnv1a(bytes, FNV_OFFSET))
+}
+
+/// FNV-1a's offset basis, its starting value.
+const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
 /// The hash of a scene file and every mesh file it names, in order.
 pub fn inputs_hash(scene_file: &Path) -> Result<String, String> {
     let read = |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
     let text = read(scene_file)?;
-    let mut hash = fnv1a(&text, 0xcbf2_9ce4_8422_2325);
+    let mut hash = fnv1a(&text, FNV_OFFSET);
     let desc: SceneDesc = toml::from_str(&String::from_utf8_lossy(&text))
         .map_err(|e| format!("{}: {}", scene_file.display(), e.message()))?;
     for file in desc.objects.iter().filter_map(|o| o.file.as_ref()) {

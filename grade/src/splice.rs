@@ -23,12 +23,12 @@ use std::path::{Path, PathBuf};
 use std::collections::BTreeMap;
 
 use crate::allow::check_region;
-use crate::child::quote;
+use crate::baseline::{ignored_files, Baseline};
 use crate::lexer::line_at;
 use crate::markers::{find_regions, Found};
-use crate::plain::{kind, read_plain, read_text, walk, FileKind, MAX_FILE_BYTES};
+use crate::plain::{kind, read_text, FileKind, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
-use crate::stub::{is_stub, region_bodies, region_function, rust_files, stub_regions};
+use crate::stub::{is_stub, region_bodies, region_function, stub_regions};
 use crate::variants::{copy_tree, write_if_changed};
 
 /// The renderer's crate root, which the scratch tree extends with the `graded` module.
@@ -38,7 +38,7 @@ const LIB: &str = "src/lib.rs";
 pub const STUDENT_ENV: &str = "RAYLAB_GRADED_STUDENT";
 
 /// Checkpoints that can have solution regions.
-const REGION_CHECKPOINTS: std::ops::RangeInclusive<u32> = 1..=9;
+pub const REGION_CHECKPOINTS: std::ops::RangeInclusive<u32> = 1..=9;
 
 /// One solution region of the instructor's tree.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -100,20 +100,22 @@ impl Submission {
 
     /// One line per region that is not the submission's own code, for the report.
     pub fn notes(&self) -> Vec<String> {
-        self.regions
-            .iter()
-            .filter_map(|(r, t)| {
-                let what = format!("{} `{}` (checkpoint {})", r.file.display(), r.function, r.checkpoint);
-                match t {
-                    Taken::Code(_) | Taken::NotStarted => None,
-                    Taken::NotFound(why) => Some(format!("{what}: not found, counts as not done: {why}")),
-                    Taken::Rejected(why) => Some(format!("{what}: rejected, graded as not written: {why}")),
-                    Taken::DoesNotCompile(why) => {
-                        Some(format!("{what}: does not compile, graded as not done: {why}"))
-                    }
-                }
-            })
-            .collect()
+        let noted = |(_, t): &&(Region, Taken)| !matches!(t, Taken::Code(_) | Taken::NotStarted);
+        self.regions.iter().filter(noted).map(|(r, t)| r.line(t)).collect()
+    }
+}
+
+impl Region {
+    /// One line of a report: the region, and what the submission has for it.
+    pub fn line(&self, taken: &Taken) -> String {
+        let what = format!("{} `{}` (checkpoint {})", self.file.display(), self.function, self.checkpoint);
+        match taken {
+            Taken::Code(_) => format!("{what}: your code, taken"),
+            Taken::NotStarted => format!("{what}: still the starter's stub"),
+            Taken::NotFound(why) => format!("{what}: not found, counts as not done: {why}"),
+            Taken::Rejected(why) => format!("{what}: rejected, graded as not written: {why}"),
+            Taken::DoesNotCompile(why) => format!("{what}: does not compile, graded as not done: {why}"),
+        }
     }
 }
 
@@ -154,26 +156,7 @@ impl Submission {
     }
 }
 
-/// The regions of every Rust file below `tree/src` (the instructor's): file (relative),
-/// checkpoint, function, body.
-fn regions_of(tree: &Path) -> Result<Vec<(Region, String)>, String> {
-    let src = tree.join("src");
-    let files = rust_files(&src).map_err(|e| format!("{}: {e}", src.display()))?;
-    let mut regions = Vec::new();
-    for (path, text) in files {
-        let file = path.strip_prefix(tree).unwrap_or(&path).to_path_buf();
-        let found = find_regions(&text).map_err(|e| format!("{}: {e}", file.display()))?;
-        for f in found {
-            let region = Region { file: file.clone(), checkpoint: f.checkpoint, function: f.function };
-            regions.push((region, text[f.body].to_string()));
-        }
-    }
-    Ok(regions)
-}
-
-/// The folders of the instructor's tree that students never see: nothing of them is named in a
-/// report, and a submission's files there are never compared with them.
-pub const HIDDEN_DIRS: [&str; 2] = ["hidden", "tests/hidden"];
+pub use crate::baseline::HIDDEN_DIRS;
 
 /// A submission's region file: its text and regions, or why it gives none (missing, not a plain
 /// file, too large, not UTF-8, does not lex).
@@ -200,16 +183,17 @@ fn submission_file(submission: &Path, file: &Path) -> Result<(String, Vec<Found>
     Ok((text, found))
 }
 
-/// Reads what the submission at `submission` has for every region of the instructor's tree.
-pub fn read_submission(instructor: &Path, submission: &Path) -> Result<Submission, String> {
-    let wanted = regions_of(instructor)?;
+/// Reads what the submission at `submission` has for every region of the baseline (the
+/// instructor's tree, or the starter's manifest in a student's own tree).
+pub fn read_submission(baseline: &Baseline, submission: &Path) -> Result<Submission, String> {
+    let wanted = baseline.regions()?;
     let mut files: BTreeMap<&Path, Result<(String, Vec<Found>), String>> = BTreeMap::new();
-    for (region, _) in &wanted {
+    for region in &wanted {
         files.entry(&region.file).or_insert_with(|| submission_file(submission, &region.file));
     }
     let regions = wanted
         .iter()
-        .map(|(region, _)| {
+        .map(|region| {
             let taken = match &files[region.file.as_path()] {
                 Err(why) => Taken::NotFound(why.clone()),
                 Ok((text, found)) => take(region, text, found),
@@ -217,7 +201,7 @@ pub fn read_submission(instructor: &Path, submission: &Path) -> Result<Submissio
             (region.clone(), taken)
         })
         .collect();
-    Ok(Submission { regions, ignored: ignored_files(instructor, submission)? })
+    Ok(Submission { regions, ignored: ignored_files(baseline, submission)? })
 }
 
 /// What the submission's file, `text` with its regions `found`, has for `region`.
@@ -240,97 +224,6 @@ fn take(region: &Region, text: &str, found: &[Found]) -> Taken {
             Taken::Rejected(format!("{}:{line}: {}", region.file.display(), rejection.reason))
         }
     }
-}
-
-/// Files of the submission that differ from the instructor's outside the regions (compared with
-/// every region body blanked), that the instructor's tree does not have, or that it has and the
-/// submission deleted (under `src/`, `tests/`, `scenes/`); anything that is not a plain file or
-/// folder, and files too large to read. The manifest is compared up to its workspace section,
-/// which the starter rewrites; build output, version control, the README and cargo's
-/// configuration are not listed. Files where the instructor keeps hidden ones are listed as
-/// ignored, never compared, and the instructor's hidden files are never named.
-fn ignored_files(instructor: &Path, submission: &Path) -> Result<Vec<String>, String> {
-    let skip = [".git", "target", "README.md", "Cargo.lock", ".cargo"];
-    let listing = walk(submission, &skip).map_err(|e| format!("{}: {e}", submission.display()))?;
-    let mut ignored = Vec::new();
-    for (path, kind) in listing {
-        // A file name is the student's text too: one clean line in a report.
-        let name = quote(&path.display().to_string());
-        let theirs = match kind {
-            FileKind::Dir => continue,
-            FileKind::Other(what) => Err(format!("{what}, never read")),
-            FileKind::File if is_hidden(&path) => Err("not compared".to_string()),
-            FileKind::File => read_plain(&submission.join(&path), MAX_FILE_BYTES).map_err(|e| e.to_string()),
-        };
-        let theirs = match theirs {
-            Ok(bytes) => bytes,
-            Err(why) => {
-                ignored.push(format!("{name}: {why}: ignored"));
-                continue;
-            }
-        };
-        let same = |ours: &[u8]| match path.to_str() {
-            Some("Cargo.toml") => package_part(ours) == package_part(&theirs),
-            _ => blank_regions(ours) == blank_regions(&theirs),
-        };
-        match std::fs::read(instructor.join(&path)) {
-            Err(_) => ignored.push(format!("{name}: a new file: ignored")),
-            Ok(ours) if !same(&ours) => {
-                ignored.push(format!("{name}: changed outside your regions: ignored"))
-            }
-            Ok(_) => {}
-        }
-    }
-    for folder in ["src", "tests", "scenes"].into_iter().filter(|f| instructor.join(f).is_dir()) {
-        let files = tree_files(&instructor.join(folder)).map_err(|e| format!("{folder}: {e}"))?;
-        for file in files {
-            let relative = file.strip_prefix(instructor).unwrap_or(&file);
-            if !is_hidden(relative) && kind(&submission.join(relative)).is_none() {
-                ignored.push(format!("{}: deleted: ignored (the instructor's is used)", relative.display()));
-            }
-        }
-    }
-    ignored.sort();
-    Ok(ignored)
-}
-
-/// Whether `path` (relative to a tree) is where the instructor keeps hidden files.
-fn is_hidden(path: &Path) -> bool {
-    HIDDEN_DIRS.iter().any(|dir| path.starts_with(dir))
-}
-
-/// Every file below `dir`.
-fn tree_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
-    for entry in std::fs::read_dir(dir)? {
-        let path = entry?.path();
-        if path.is_dir() {
-            files.extend(tree_files(&path)?);
-        } else {
-            files.push(path);
-        }
-    }
-    Ok(files)
-}
-
-/// A manifest up to its workspace section (and the comments just before it).
-fn package_part(bytes: &[u8]) -> String {
-    let text = String::from_utf8_lossy(bytes);
-    let lines: Vec<&str> = text.lines().take_while(|l| !l.starts_with("[workspace")).collect();
-    let end = lines.iter().rposition(|l| !l.trim().is_empty() && !l.starts_with('#')).map_or(0, |i| i + 1);
-    lines[..end].join("\n")
-}
-
-/// A file's bytes with every region body emptied (Rust files only).
-fn blank_regions(bytes: &[u8]) -> Vec<u8> {
-    let Ok(text) = std::str::from_utf8(bytes) else { return bytes.to_vec() };
-    let mut out = text.to_string();
-    for checkpoint in REGION_CHECKPOINTS {
-        for range in region_bodies(text, checkpoint).into_iter().rev() {
-            out.replace_range(range, "");
-        }
-    }
-    out.into_bytes()
 }
 
 /// Writes the scratch tree: the instructor's tree without its references, hidden ones included
@@ -442,7 +335,7 @@ mod tests {
     #[test]
     fn grader_finds_every_region_of_the_solution_in_the_solution() {
         let root = repository();
-        let submission = read_submission(&root, &root).unwrap();
+        let submission = read_submission(&Baseline::Tree(&root), &root).unwrap();
         assert!(submission.regions.len() >= 11, "{:?}", submission.regions);
         assert!(
             submission.regions.iter().all(|(_, t)| matches!(t, Taken::Code(_))),
@@ -484,7 +377,7 @@ mod tests {
             std::fs::create_dir_all(ours.join(dir)).unwrap();
             std::fs::write(ours.join(dir).join("x.png"), "image").unwrap();
         }
-        let submission = read_submission(&ours, &theirs).unwrap();
+        let submission = read_submission(&Baseline::Tree(&ours), &theirs).unwrap();
         write_spliced_tree(&ours, &submission, &dest).unwrap();
         let spliced = std::fs::read_to_string(dest.join("src/a.rs")).unwrap();
         let copied =
@@ -505,7 +398,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("raylab-splice-rejected-{}", std::process::id()));
         let (ours, theirs) = two_trees(&dir);
         let spliced = |taken: Taken| {
-            let mut submission = read_submission(&ours, &theirs).unwrap();
+            let mut submission = read_submission(&Baseline::Tree(&ours), &theirs).unwrap();
             submission.regions.iter_mut().find(|(r, _)| r.checkpoint == 2).unwrap().1 = taken;
             let dest = dir.join("dest");
             write_spliced_tree(&ours, &submission, &dest).unwrap();
@@ -517,15 +410,5 @@ mod tests {
         assert_eq!(rejected, stub);
         assert!(!rejected.contains("10 * 10") && rejected.contains("20 * 20"), "{rejected}");
         assert!(rejected.contains("todo!("), "{rejected}");
-    }
-
-    #[test]
-    fn grader_blanks_only_region_bodies_when_comparing() {
-        let text =
-            concat!("fn a() {\n    // BEGIN", " SOLUTION checkpoint2\n    1\n    // END SOLUTION\n}\n");
-        let other = text.replace("    1\n", "    2\n    3\n");
-        assert_eq!(blank_regions(text.as_bytes()), blank_regions(other.as_bytes()));
-        let outside = text.replace("fn a()", "fn b()");
-        assert_ne!(blank_regions(text.as_bytes()), blank_regions(outside.as_bytes()));
     }
 }

@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
 
+use crate::baseline::{starter_manifest, Baseline, StarterManifest};
 use crate::cargo::{error_code, error_place, BUILD_TIME_LIMIT};
 use crate::grading::{grade, Blame, CheckpointResult, GradeOptions, GradeReport, Phases};
 use crate::plain::is_plain_dir;
@@ -34,6 +35,9 @@ pub struct SubmissionReport {
     pub splice_seconds: f64,
     /// Seconds of every grading run's phases, summed.
     pub phases: Phases,
+    /// A student's own tree (it has the starter's manifest, no solution): graded once, as it
+    /// stands, `isolated` and `cumulative` the same grade.
+    pub own_tree: bool,
 }
 
 /// Grades the submission at `dir` with the instructor's tree at `instructor`, building in `work`
@@ -48,8 +52,11 @@ pub fn grade_submission(
         return Err(format!("{}: not a folder", dir.display()));
     }
     let dir = &submission_root(dir);
+    if let Some(manifest) = starter_manifest(instructor)? {
+        return grade_own_tree(instructor, dir, &manifest, progress);
+    }
     let start = std::time::Instant::now();
-    let mut submission = read_submission(instructor, dir)?;
+    let mut submission = read_submission(&Baseline::Tree(instructor), dir)?;
     let tree = work.join("tree");
     // CARGO_TARGET_DIR, when set, shares compiled dependencies with other builds.
     let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| work.join("target"), PathBuf::from);
@@ -112,7 +119,36 @@ pub fn grade_submission(
         seconds: start.elapsed().as_secs_f64(),
         phases,
     };
-    Ok(SubmissionReport { isolated, cumulative, submission, splice_seconds, phases })
+    Ok(SubmissionReport { isolated, cumulative, submission, splice_seconds, phases, own_tree: false })
+}
+
+/// `grader submission` in a student's tree, where `root` holds the starter's manifest and no
+/// solution: what the instructor's grader would take and ignore, read against the manifest, and
+/// one grade of the tree as it stands (in its own build folder, nothing built twice).
+fn grade_own_tree(
+    root: &Path,
+    dir: &Path,
+    manifest: &StarterManifest,
+    progress: &ProgressBar,
+) -> Result<SubmissionReport, String> {
+    let start = std::time::Instant::now();
+    let submission = read_submission(&Baseline::Starter(manifest), dir)?;
+    let splice_seconds = start.elapsed().as_secs_f64();
+    let mut report =
+        grade(&GradeOptions { code: Some(dir.to_path_buf()), ..GradeOptions::new(root) }, progress)?;
+    for c in report.checkpoints.iter_mut().filter(|c| submission.rejected().contains(&c.checkpoint.id)) {
+        let reason = "a region was rejected (see below): graded here as written, but the instructor's grader runs the starter's stub in its place";
+        c.reasons.insert(0, reason.to_string());
+    }
+    let phases = report.phases;
+    Ok(SubmissionReport {
+        cumulative: report.clone(),
+        isolated: report,
+        submission,
+        splice_seconds,
+        phases,
+        own_tree: true,
+    })
 }
 
 /// The folder of a submission that holds its tree: `dir` if it holds `src/`, else the one folder
@@ -149,6 +185,9 @@ pub fn results_json(graded: &Result<SubmissionReport, String>) -> serde_json::Va
 /// The report a person reads: per checkpoint the grade and the whole renderer's points, why
 /// points were lost, the regions not taken, the files ignored.
 pub fn text(report: &SubmissionReport) -> String {
+    if report.own_tree {
+        return own_tree_text(report);
+    }
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -190,9 +229,34 @@ pub fn text(report: &SubmissionReport) -> String {
         report.phases.tests,
         report.phases.renders
     );
-    for (title, lines) in
-        [("Regions not taken", report.submission.notes()), ("Ignored", report.submission.ignored.clone())]
-    {
+    lists(
+        &mut out,
+        [("Regions not taken", report.submission.notes()), ("Ignored", report.submission.ignored.clone())],
+    );
+    out
+}
+
+/// The text of a student's own tree graded once ([`SubmissionReport::own_tree`]).
+fn own_tree_text(report: &SubmissionReport) -> String {
+    let mut out = String::from(
+        "Your own tree, graded once as it stands: there is no reference solution here to judge each checkpoint on its own, so a scene also runs your other checkpoints. The instructor's grader takes only your regions (listed below), each checkpoint with the solution everywhere else.\n\n",
+    );
+    out += &crate::report::text(&report.isolated);
+    let regions = report.submission.regions.iter().map(|(r, t)| r.line(t));
+    let ignored = report.submission.ignored.clone();
+    lists(
+        &mut out,
+        [
+            ("Regions the instructor's grader takes", regions.collect()),
+            ("Ignored by the instructor's grader", ignored),
+        ],
+    );
+    out
+}
+
+/// Titled lists of lines, the empty ones left out.
+fn lists<const N: usize>(out: &mut String, lists: [(&str, Vec<String>); N]) {
+    for (title, lines) in lists {
         if !lines.is_empty() {
             let _ = writeln!(out, "\n{title}:");
             for line in lines {
@@ -200,5 +264,4 @@ pub fn text(report: &SubmissionReport) -> String {
             }
         }
     }
-    out
 }

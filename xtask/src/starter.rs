@@ -5,6 +5,7 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
+use raylab_grade::baseline::write_starter_manifest;
 use raylab_grade::package::tracked_files;
 use raylab_grade::stub::{region_bodies, rust_files};
 use raylab_grade::variants::stub_tree;
@@ -88,7 +89,8 @@ pub fn starter(out: &Path) -> Result<(), String> {
     if !survivors.is_empty() {
         return Err(format!("solution lines survive in the starter: {survivors:?}"));
     }
-    Ok(())
+    // Last: what `grader submission .` compares a student's tree with.
+    write_starter_manifest(out)
 }
 
 /// The documents a student reads, relative to the starter: the README, the handouts, `docs/`.
@@ -234,6 +236,57 @@ mod tests {
         }
         std::fs::remove_dir_all(&out).unwrap();
         assert!(problems.is_empty(), "{}", problems.join("\n"));
+    }
+
+    /// `grader submission .` in a student's tree reads it against the starter's manifest: the
+    /// pristine starter has every region a stub and nothing ignored; a student's edits are listed
+    /// (a region taken, a rejected line at its own line number, a new file, a change outside the
+    /// regions, a deleted file), and the instructor's tree has no manifest.
+    #[test]
+    fn a_students_tree_is_read_against_the_starters_manifest() {
+        use raylab_grade::baseline::{starter_manifest, Baseline};
+        use raylab_grade::splice::{read_submission, Taken};
+        let out = std::env::temp_dir().join(format!("raylab-starter-manifest-{}", std::process::id()));
+        starter(&out).unwrap();
+        assert_eq!(starter_manifest(repository()).unwrap(), None);
+        let manifest = starter_manifest(&out).unwrap().expect("the starter has a manifest");
+        let read = || read_submission(&Baseline::Starter(&manifest), &out).unwrap();
+        let pristine = read();
+        assert!(pristine.ignored.is_empty(), "{:?}", pristine.ignored);
+        assert!(pristine.regions.iter().all(|(_, t)| *t == Taken::NotStarted), "{:?}", pristine.regions);
+        assert_eq!(pristine.regions.len(), manifest.regions.len());
+
+        let edit = |file: &str, from: &str, to: &str| {
+            let text = std::fs::read_to_string(out.join(file)).unwrap();
+            assert!(text.contains(from), "{file}: {from}");
+            std::fs::write(out.join(file), text.replacen(from, to, 1)).unwrap();
+        };
+        std::fs::copy(repository().join("src/geometry/triangle.rs"), out.join("src/geometry/triangle.rs"))
+            .unwrap();
+        let aabb = std::fs::read_to_string(out.join("src/geometry/aabb.rs")).unwrap();
+        let stub_line = aabb.lines().position(|l| l.contains("todo!(\"checkpoint 3")).unwrap() + 1;
+        edit(
+            "src/geometry/aabb.rs",
+            "        todo!(\"checkpoint 3",
+            "        let _ = std::fs::read(\"x\");\n        todo!(\"checkpoint 3",
+        );
+        edit("src/camera.rs", "\n", "\n// a comment outside every region\n");
+        std::fs::write(out.join("notes.txt"), "mine").unwrap();
+        std::fs::remove_file(out.join("scenes/intersection_test.toml")).unwrap();
+        let edited = read();
+        std::fs::remove_dir_all(&out).unwrap();
+        let taken = |function: &str| &edited.regions.iter().find(|(r, _)| r.function == function).unwrap().1;
+        assert!(matches!(taken("intersect_triangle"), Taken::Code(_)));
+        let Taken::Rejected(why) = taken("intersect") else { panic!("{:?}", taken("intersect")) };
+        assert!(why.starts_with(&format!("src/geometry/aabb.rs:{stub_line}: ")), "{why} (line {stub_line})");
+        assert_eq!(
+            edited.ignored,
+            [
+                "notes.txt: a new file: ignored",
+                "scenes/intersection_test.toml: deleted: ignored (the instructor's is used)",
+                "src/camera.rs: changed outside your regions: ignored",
+            ]
+        );
     }
 
     /// The names of the hidden checks: the hidden scenes, and every hidden test function.
