@@ -78,8 +78,10 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         SceneStatus::NotCounted(_) => ("wait", "not counted"),
     };
     let grades: Vec<String> = s.scene.grades.iter().map(u32::to_string).collect();
-    let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}; rendered in {2:.1} s</p>",
-        escape(&s.scene.name), grades.join(", "), s.seconds);
+    let rendered =
+        if s.render.is_some() { format!("; rendered in {:.1} s", s.seconds) } else { String::new() };
+    let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}{rendered}</p>",
+        escape(&s.scene.name), grades.join(", "));
     if s.scene.hidden {
         h.push_str("<p>A hidden scene: its checks are shown, never its images.</p>\n");
     } else {
@@ -98,7 +100,10 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
                 figure(h, "tile test: red tiles differ beyond noise; amber nears the limit", Some(&map));
                 figure(h, "1 − SSIM (a diagnostic only: noise differs too)", diff.as_ref());
             }
-            _ => figure(h, "difference (1 − SSIM: black same, yellow very different)", diff.as_ref()),
+            _ if diff.is_some() => {
+                figure(h, "difference (1 − SSIM: black same, yellow very different)", diff.as_ref())
+            }
+            _ => {}
         }
         h.push_str("</div>\n");
     }

@@ -107,6 +107,16 @@ enum Judged {
     Lost { reason: String, blamed: bool },
 }
 
+/// "checkpoint 3", "checkpoints 3 and 4", "checkpoints 3, 4 and 5".
+fn checkpoints_text(ids: &[u32]) -> String {
+    let names: Vec<String> = ids.iter().map(u32::to_string).collect();
+    match names.as_slice() {
+        [one] => format!("checkpoint {one}"),
+        [first @ .., last] => format!("checkpoints {} and {last}", first.join(", ")),
+        [] => "no checkpoint".to_string(),
+    }
+}
+
 /// Judges a failed scene for checkpoint `id` (module docs); `label` begins the reason.
 fn judge(s: &SceneResult, id: u32, label: &str, context: &Context) -> Judged {
     let name = &s.scene.name;
@@ -124,9 +134,14 @@ fn judge(s: &SceneResult, id: u32, label: &str, context: &Context) -> Judged {
             true,
         ),
         (Blame::Isolated, _) => lost(why, true),
-        (_, Some(k)) if k > id && not_started(k) => Judged::Kept(format!(
-            "not counted against checkpoint {id}: waiting for checkpoint {k}, not written yet (the scene runs its code)"
-        )),
+        (_, Some(k)) if k > id && not_started(k) => {
+            let waiting: Vec<u32> = s.scene.depends_on.iter().copied().filter(|&d| d > id && not_started(d)).collect();
+            Judged::Kept(format!(
+                "not counted against checkpoint {id}: waiting for {}, not written yet (the scene runs {})",
+                checkpoints_text(&waiting),
+                if waiting.len() > 1 { "their code" } else { "its code" }
+            ))
+        }
         (_, Some(k)) if k > id => Judged::Kept(format!(
             "not counted against checkpoint {id}: checkpoint {k}'s tests fail, fix it first ({why})"
         )),
@@ -285,12 +300,11 @@ fn test_reasons(id: u32, part: &Part, t: &TestRun, context: &Context) -> (Vec<St
         let mut waits_for: Vec<u32> = waiting.iter().map(|(_, k)| *k).collect();
         waits_for.sort_unstable();
         waits_for.dedup();
-        let waits_for: Vec<String> = waits_for.iter().map(|k| format!("checkpoint {k}")).collect();
         reasons.push(format!(
             "{label}unit tests: {} of {} wait for {}, not written yet (left out: they run its code)",
             waiting.len(),
             t.passed + t.failed,
-            waits_for.join(" and ")
+            checkpoints_text(&waits_for)
         ));
     }
     // The test's own name reads as a sentence; its module path is the checkpoint's.
@@ -512,7 +526,7 @@ mod tests {
         let scene = stopped_in_the_stub_of(&rubric, "intersection_test", 4, &context);
         let status = scene_status(&scene, &[2], &context);
         let SceneStatus::NotCounted(note) = &status else { panic!("{status:?}") };
-        assert!(note.contains("waiting for checkpoint 3, not written yet"), "{note}");
+        assert!(note.contains("waiting for checkpoints 3, 4 and 5, not written yet"), "{note}");
         assert_eq!(status.word(), "-");
         let two = score_checkpoint(&rubric.checkpoints[1], std::slice::from_ref(&scene), &context);
         assert_eq!(two.score(), two.max_score(true), "{:?}", two.reasons);

@@ -239,7 +239,9 @@ pub fn text(report: &SubmissionReport) -> String {
 /// The text of a student's own tree graded once ([`SubmissionReport::own_tree`]).
 fn own_tree_text(report: &SubmissionReport) -> String {
     let mut out = String::from(
-        "Your own tree, graded once as it stands: there is no reference solution here to judge each checkpoint on its own, so a scene also runs your other checkpoints. The instructor's grader takes only your regions (listed below), each checkpoint with the solution everywhere else.\n\n",
+        "Your own tree, graded once as it stands: there is no reference solution here to judge each\n\
+         checkpoint on its own, so a scene also runs your other checkpoints. The instructor's grader\n\
+         takes only your regions (listed below), each checkpoint with the solution everywhere else.\n\n",
     );
     out += &crate::report::text(&report.isolated);
     let regions = report.submission.regions.iter().map(|(r, t)| r.line(t));
