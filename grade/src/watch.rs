@@ -2,10 +2,14 @@
 //! does, moving on to the next checkpoint when one passes, and the ones that passed again with it,
 //! so a save that breaks an earlier checkpoint is named as the regression it is.
 //!
+//! Each round runs the tests first and answers as soon as one fails; the scenes are rendered only
+//! when every test passes.
+//!
 //! The loop is written against two seams so it can be tested without files or builds: a
 //! [`Changes`] source that blocks until something was saved, and a `check` function that grades
-//! one checkpoint. The grader binary gives it [`Polling`] (modification times of the tree's Rust
-//! sources, scanned every 300 ms: no platform watcher needed) and [`grade`](crate::grading::grade).
+//! checkpoints, tests only or in full. The grader binary gives it [`Polling`] (modification times
+//! of the tree's Rust sources, scanned every 300 ms: no platform watcher needed) and
+//! [`grade`](crate::grading::grade).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::Write;
@@ -67,7 +71,17 @@ impl Changes for Polling {
     }
 }
 
-/// Watches from checkpoint `first` to `last`: grades the current one with `check`, prints one
+/// How much of a checkpoint a round grades.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Its unit tests only: the first answer after a save.
+    Tests,
+    /// Its tests and its scenes, once its tests pass.
+    Full,
+}
+
+/// Watches from checkpoint `first` to `last`: grades the current one with `check` (its tests,
+/// then, when they pass, its scenes too), prints one
 /// line when it passes and moves on, or prints what to look at first and waits for a save.
 /// After every save, the checkpoints that passed are graded again with the current one, and one
 /// that fails now is named as a regression and becomes the current one. With `stamped` (output
@@ -75,7 +89,7 @@ impl Changes for Polling {
 /// `last` passes or `changes` stops.
 pub fn watch(
     changes: &mut impl Changes,
-    mut check: impl FnMut(&[u32]) -> Result<Vec<CheckpointResult>, String>,
+    mut check: impl FnMut(&[u32], Stage) -> Result<Vec<CheckpointResult>, String>,
     (first, last): (u32, u32),
     stamped: bool,
     out: &mut impl Write,
@@ -98,7 +112,13 @@ pub fn watch(
         )?;
         out.flush()?;
         saved = false;
-        let results = match check(&ids) {
+        // Tests first, answered as soon as they ran: the scenes only when every test passes.
+        let mut results = check(&ids, Stage::Tests);
+        let tests_pass = |r: &CheckpointResult| (r.test_score - r.checkpoint.all_test_points()).abs() < 1e-9;
+        if results.as_ref().is_ok_and(|results| results.iter().all(tests_pass)) {
+            results = check(&ids, Stage::Full);
+        }
+        let results = match results {
             Ok(results) => results,
             Err(e) => {
                 writeln!(out, "checkpoint {current}: cannot grade: {e}")?;
@@ -208,8 +228,8 @@ mod tests {
     fn grader_watch_waits_on_a_failing_checkpoint_and_moves_on_when_it_passes() {
         // Checkpoint 2 fails twice (two saves), then passes; checkpoint 3 passes at once.
         let mut runs = 0;
-        let check = |ids: &[u32]| {
-            runs += 1;
+        let check = |ids: &[u32], stage| {
+            runs += (stage == Stage::Tests) as u32;
             Ok(ids
                 .iter()
                 .map(|&id| if id == 2 && runs <= 2 { result(2, 9, 1) } else { result(id, 10, 0) })
@@ -231,9 +251,12 @@ mod tests {
     /// with 3, named as a regression, and is the current checkpoint until it passes again.
     #[test]
     fn grader_watch_names_a_regression_of_a_checkpoint_that_passed() {
-        let mut graded: Vec<Vec<u32>> = Vec::new();
-        let check = |ids: &[u32]| {
-            graded.push(ids.to_vec());
+        let (mut graded, mut full): (Vec<Vec<u32>>, Vec<Vec<u32>>) = (Vec::new(), Vec::new());
+        let check = |ids: &[u32], stage| {
+            match stage {
+                Stage::Tests => graded.push(ids.to_vec()),
+                Stage::Full => full.push(ids.to_vec()),
+            }
             let broken = graded.len() == 3;
             Ok(ids
                 .iter()
@@ -244,6 +267,8 @@ mod tests {
         watch(&mut Saves(3), check, (2, 3), true, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert_eq!(graded, [vec![2], vec![3], vec![2, 3], vec![2], vec![3]], "{text}");
+        // The scenes only in rounds whose tests all pass.
+        assert_eq!(full, [vec![2], vec![2]], "{text}");
         assert!(text.contains("checkpoint 2 passed before and fails now: first failing test"), "{text}");
         assert!(text.contains("checking checkpoint 3 (and again 2)..."), "{text}");
         let rounds: Vec<&str> = text.lines().filter(|l| l.contains("checking")).collect();
@@ -255,7 +280,7 @@ mod tests {
         let mut out = Vec::new();
         watch(
             &mut Saves(1),
-            |ids: &[u32]| Ok(ids.iter().map(|&id| result(id, 0, 10)).collect()),
+            |ids: &[u32], _| Ok(ids.iter().map(|&id| result(id, 0, 10)).collect()),
             (2, 7),
             false,
             &mut out,

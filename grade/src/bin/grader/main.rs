@@ -22,6 +22,7 @@ use raylab_grade::grading::{grade, GradeOptions};
 use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};
 use raylab_grade::ssim::SsimMap;
+use raylab_grade::watch::Stage;
 use raylab_grade::{heatmap::heatmap, html, report};
 
 /// Grade raylab's checkpoints: unit tests and renders scored against reference images.
@@ -247,8 +248,9 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> 
 fn watch(root: &Path, from: u32) -> Result<ExitCode, String> {
     let rubric = raylab_grade::rubric::Rubric::of_tree(root)?;
     let last = rubric.checkpoints.iter().map(|c| c.id).max().unwrap_or(from);
-    let check = |ids: &[u32]| {
-        let options = GradeOptions { checkpoints: Some(ids.to_vec()), ..GradeOptions::new(root) };
+    let check = |ids: &[u32], stage| {
+        let scenes = (stage == Stage::Tests).then(Vec::new);
+        let options = GradeOptions { checkpoints: Some(ids.to_vec()), scenes, ..GradeOptions::new(root) };
         Ok(grade(&options, &ProgressBar::hidden())?.checkpoints)
     };
     let mut changes = raylab_grade::watch::Polling::new(&root.join("src"));
