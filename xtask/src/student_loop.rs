@@ -5,12 +5,16 @@
 //! (the solution's files holding its regions are copied in; 2 to N - 1 already are), the grader
 //! warmed up once, and then, `runs` times: one line saved in a region of checkpoint N, and the
 //! wall time to the exit of `cargo grader --checkpoint N`; then another line, and the time of
-//! `cargo test checkpointN --no-run`, the build a student waits for anyway. Medians are printed.
-//! The targets (issue "The student's loop 1"): the grader at most 10 s.
+//! `cargo test checkpointN --no-run`, the build a student waits for anyway; then `grader watch
+//! --from N` is left running and, `runs` times, a line saved and the time to its first answer
+//! taken. Medians are printed. The targets (issue "The student's loop 1"): the grader at most
+//! 10 s; watch at most 1 s more than the test build.
 
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::time::Instant;
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
 
 use raylab_grade::stub::{region_bodies, rust_files};
 
@@ -26,9 +30,9 @@ pub fn student_loop(runs: usize) -> Result<(), String> {
     let (tree, target) = (work.join("starter"), work.join("target"));
     starter(&tree)?;
     println!(
-        "| N | save to `cargo grader --checkpoint N` exit | save to `cargo test checkpointN --no-run` |"
+        "| N | save to `cargo grader --checkpoint N` exit | save to `cargo test checkpointN --no-run` | save to watch's first answer |"
     );
-    println!("|---|---|---|");
+    println!("|---|---|---|---|");
     let mut saves = 0;
     for n in 2..=7 {
         let files = region_files(n)?;
@@ -47,7 +51,13 @@ pub fn student_loop(runs: usize) -> Result<(), String> {
                 times.push(timed(&tree, &target, args)?);
             }
         }
-        println!("| {n} | {:.1} s | {:.1} s |", median(&mut grading), median(&mut building));
+        let mut watching = watch_answers(&tree, &target, &files[0], n, runs, &mut saves)?;
+        println!(
+            "| {n} | {:.1} s | {:.1} s | {:.1} s |",
+            median(&mut grading),
+            median(&mut building),
+            median(&mut watching)
+        );
     }
     let _ = std::fs::remove_dir_all(&work);
     Ok(())
@@ -94,6 +104,57 @@ fn timed(tree: &Path, target: &Path, args: &[String]) -> Result<f64, String> {
         return Err(format!("cargo {}: {}", args.join(" "), stderr.lines().last().unwrap_or("no output")));
     }
     Ok(seconds)
+}
+
+/// `grader watch --from N` left running (checkpoint N passes, N + 1 is a stub and fails): for
+/// each of `runs` saves in `file`, the time to its first answer, the line that follows the
+/// round's "checking" line.
+fn watch_answers(
+    tree: &Path,
+    target: &Path,
+    file: &Path,
+    n: u32,
+    runs: usize,
+    saves: &mut usize,
+) -> Result<Vec<f64>, String> {
+    let mut child = Command::new(target.join("release/grader"))
+        .current_dir(tree)
+        .env("CARGO_TARGET_DIR", target)
+        .args(["watch", "--from", &n.to_string()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| format!("cannot run the grader: {e}"))?;
+    let (lines, received) = mpsc::channel();
+    let stdout = child.stdout.take().ok_or("no stdout")?;
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+            let _ = lines.send(line);
+        }
+    });
+    let wait_for = |pattern: &str| loop {
+        match received.recv_timeout(Duration::from_secs(600)) {
+            Ok(line) if line.contains(pattern) => return Ok(Instant::now()),
+            Ok(_) => {}
+            Err(_) => return Err(format!("grader watch: no `{pattern}` line")),
+        }
+    };
+    let result = (|| {
+        wait_for("waiting for a save")?;
+        let mut times = Vec::new();
+        for _ in 0..runs {
+            *saves += 1;
+            save(&tree.join(file), n, *saves)?;
+            let start = Instant::now();
+            wait_for("checking checkpoint")?;
+            times.push(wait_for("checkpoint ")?.duration_since(start).as_secs_f64());
+            wait_for("waiting for a save")?;
+        }
+        Ok(times)
+    })();
+    let _ = child.kill();
+    let _ = child.wait();
+    result
 }
 
 fn median(times: &mut [f64]) -> f64 {
