@@ -2,7 +2,8 @@
 //! turn a copy of the reference solution into the submission (region bodies replaced, files
 //! written, deleted, copied, replaced by symbolic links, given raw bytes or `\r\n` line
 //! endings, markers stripped), `expected.toml` what grading it must give
-//! (exact points per checkpoint, substrings of the report). Used by the hostile suite
+//! (exact points per checkpoint, substrings of the report, where `{FILE:FUNCTION+N}` stands for
+//! the line N below that region's `BEGIN SOLUTION` marker, so a solution's header can grow). Used by the hostile suite
 //! (`grade/tests/grader_hostile.rs`) and the Gradescope dry run (`cargo xtask
 //! gradescope-dry-run`), which must agree on every fixture.
 
@@ -11,6 +12,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use crate::lexer::line_at;
+use crate::markers::find_regions;
 use crate::rubric::read_toml;
 use crate::splice::HIDDEN_DIRS;
 use crate::stub::{region_bodies, region_function, rust_files};
@@ -122,7 +125,35 @@ pub fn make(root: &Path, name: &str, dest: &Path) -> Result<Expected, String> {
     let skip: Vec<&str> = NOT_COPIED.into_iter().chain(HIDDEN_DIRS).collect();
     copy_tree(root, dest, &skip).map_err(|e| format!("copying {}: {e}", root.display()))?;
     apply(&fixture, dest, root).map_err(|e| format!("fixture {name}: {e}"))?;
-    Ok(expected)
+    let output = expected.output.iter().map(|o| with_lines(o, dest)).collect::<Result<_, _>>();
+    Ok(Expected { output: output.map_err(|e| format!("fixture {name}: expected.toml: {e}"))?, ..expected })
+}
+
+/// `text` with each `{FILE:FUNCTION+N}` replaced by the line number, in the submission at
+/// `dir`, N lines below the `BEGIN SOLUTION` marker of FUNCTION's region in FILE: a line of the
+/// fixture's own body, which a header edit of the solution does not move.
+fn with_lines(text: &str, dir: &Path) -> Result<String, String> {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(open) = rest.find('{') {
+        let close = rest[open..].find('}').ok_or_else(|| format!("an unclosed `{{` in {text:?}"))? + open;
+        let place = &rest[open + 1..close];
+        let (file, at) =
+            place.split_once(':').ok_or_else(|| format!("`{{{place}}}`: not FILE:FUNCTION+N"))?;
+        let (function, below) = at.split_once('+').ok_or_else(|| format!("`{{{place}}}`: no +N"))?;
+        let below: usize = below.parse().map_err(|_| format!("`{{{place}}}`: N is not a number"))?;
+        let source = std::fs::read_to_string(dir.join(file)).map_err(|e| format!("{file}: {e}"))?;
+        let found = find_regions(&source).map_err(|e| format!("{file}: {e}"))?;
+        let region = found
+            .iter()
+            .find(|f| f.function == function)
+            .ok_or_else(|| format!("{file}: no region in `{function}`"))?;
+        let marker = line_at(&source, region.body.start) - 1;
+        out += &rest[..open];
+        out += &(marker + below).to_string();
+        rest = &rest[close + 1..];
+    }
+    Ok(out + rest)
 }
 
 fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), String> {
@@ -215,5 +246,27 @@ impl Expected {
         problems
             .extend(self.output.iter().filter(|s| !output.contains(s.as_str())).map(|s| format!("no {s:?}")));
         problems
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `{FILE:FUNCTION+N}` counts from that region's marker, in the submission's own file.
+    #[test]
+    fn expected_lines_follow_the_region_they_name() {
+        let dir = std::env::temp_dir().join(format!("raylab-fixture-lines-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("src")).unwrap();
+        let text = concat!(
+            "//! a header\n//! of three\n//! lines\nfn a() {\n    // BEGIN",
+            " SOLUTION checkpoint2\n    1\n    // END SOLUTION\n}\n"
+        );
+        std::fs::write(dir.join("src/a.rs"), text).unwrap();
+        let expanded = with_lines("src/a.rs:{src/a.rs:a+1}: rejected", &dir);
+        let unknown = with_lines("{src/a.rs:b+1}", &dir);
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(expanded.unwrap(), "src/a.rs:6: rejected");
+        assert!(unknown.unwrap_err().contains("no region in `b`"));
     }
 }

@@ -21,13 +21,17 @@
 //!
 //! **Pitfalls.**
 //! - Negative directions: the near plane is `max_i`, not `min_i`. Decide the swap from the sign of
-//!   `inv_dir` (`-0.0` gives `-∞`), not by `min(t0, t1)`, which goes wrong with NaN below.
+//!   `inv_dir` (`−0.0` gives `−∞`), not by `d_i < 0` (false for `−0.0`: the test
+//!   `negative_directions_swap_near_and_far` tries it) nor by `min(t0, t1)`, which goes wrong
+//!   with NaN below.
 //! - Zero direction components: `inv_dir = ±∞`, and `(min_i − o_i) · ∞` is `±∞`, which is right
 //!   (the slab is either everything or nothing). But if `o_i` lies exactly on a slab plane,
 //!   `0 · ∞ = NaN`. Any comparison with NaN is false, so `if near > t_in { t_in = near }` ignores
 //!   that plane (so do `f32::max` and `f32::min`, which return the other operand), and that is
 //!   the right answer: a ray lying in the plane of a closed slab is inside it for all `t`.
-//! - Start from the ray's own `t_min` and `t_max`, or boxes behind the origin count as hits.
+//! - Start from the ray's own `t_min` and `t_max` (not from `−∞`), or boxes behind the origin
+//!   count as hits.
+//! - `t_in < t_out` instead of `≤` misses flat boxes: the walls of a Cornell box.
 //!
 //! **Check:** `cargo test checkpoint3`. Handout: `checkpoints/03-aabb.md`.
 

@@ -24,11 +24,13 @@
 //! - Rejecting `det < 0` culls back faces: walls seen from inside and rays leaving glass vanish.
 //! - "Parallel" must be judged relative to the triangle's size: `|det| = |d| |e1 × e2| |cos θ|`,
 //!   so a bare `|det| < 1e-8` rejects small triangles seen head-on and accepts huge ones seen
-//!   edge-on. Compare `|det|` with `|e1 × e2|` instead, with `<=`: a degenerate triangle
+//!   edge-on. Compare `|det|` with `|e1 × e2|` instead (raylab uses `1e-7 · |e1 × e2|`, a cosine
+//!   of 1e-7 between the ray and the plane), with `<=`: a degenerate triangle
 //!   (`e1 × e2 = 0`, so `det = 0`) then misses too (with `<`, `0 < 0` is false and the division
 //!   by `det` gives a NaN hit). That comparison needs a square root: make it last, for the few
 //!   rays that pass every other test.
 //! - Test `b1` before computing `Q`, and `b1 + b2 ≤ 1`, not `b2 ≤ 1`.
+//! - Accepting `t < t_min` shows what is behind the camera (and mirrored copies).
 //! - Forgetting `t_max` makes the closest-hit search in the BVH (checkpoint 4) return far hits.
 //!
 //! **Check:** `cargo test checkpoint2`. Handout: `checkpoints/02-triangle.md`.

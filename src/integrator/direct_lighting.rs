@@ -25,6 +25,8 @@
 //! **Pitfalls.**
 //! - Using the flux as the intensity (a factor 4π too bright).
 //! - Forgetting `1/π`: the surface reflects more than it receives.
+//! - Forgetting `1/r²` (no falloff, a flat look) or `cos θ` (grazing walls as bright as facing
+//!   ones).
 //! - A shadow ray from the exact hit point hits its own surface: black speckles ("acne").
 //! - A shadow ray that does not stop at the light sees the ceiling behind it: everything dark.
 //!

@@ -4,7 +4,7 @@
 //! **Task.** Write [`trace_to_diffuse`]: follow a ray through perfectly refracting surfaces
 //! (using [`refract_or_reflect`](crate::material::refract_or_reflect) from part 1) until it reaches a diffuse surface; and
 //! [`IntersectionTestIntegrator::li`]: shade that surface without any light, as
-//! `albedo · |cos θ|` between the ray and the normal, black if nothing diffuse is reached.
+//! `albedo · |n · wo|`, the cosine between the ray and the normal, black if nothing diffuse is reached.
 //!
 //! **Algorithm.** Repeat: find the closest hit; if it is diffuse, done; if it is glass, continue
 //! from the hit point in the refracted (or totally reflected) direction with
@@ -15,7 +15,9 @@
 //! normal, which `refract_or_reflect` needs as it is (do not flip it toward the ray first).
 //!
 //! **Pitfalls.**
-//! - Spawning the next ray at the hit point itself: it hits the same surface again at `t ≈ 0`.
+//! - Spawning the next ray at the hit point itself: it hits the same surface again at `t ≈ 0`
+//!   (black speckles, worst on tilted glass far from the origin: the test
+//!   `a_tilted_glass_slab_far_from_the_origin_lets_rays_through` shows it).
 //!   [`spawn_ray`](crate::math::spawn_ray) moves the origin to the side the new direction leaves toward.
 //! - Computing the refracted direction but continuing along the old one.
 //! - An endless loop: count bounces.

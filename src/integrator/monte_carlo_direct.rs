@@ -27,13 +27,22 @@
 //! surface its back) or something blocks the shadow ray from `x` to `y`. Averaged over many
 //! samples (more spp), it converges to the exact direct light.
 //!
-//! **Conventions.** Turn the surface normal toward `wo` first, as in checkpoint 6. Draw every
-//! random number from `rng`: one for the light, three for the point. The shadow ray is
+//! The light and the point are raylab's choices: a light in proportion to its power (part 2), a
+//! point uniformly over the light's area (part 1). Check by hand: a tiny light of area `A`
+//! straight above `x` at height `h`, facing down, gives `L ≈ ρ/π · L_e · A / h²`.
+//!
+//! **Conventions.** Turn the surface normal toward `wo` first, as in checkpoint 6; a light shines
+//! only from its front (`cos θ_l > 0`). Draw every random number from `rng`, in this order: one
+//! for the light, three for the point. The integrator around this function adds what a surface
+//! itself emits toward the camera (`SurfaceHit::emitted`), so lights are visible, through glass
+//! too. The shadow ray is
 //! [`spawn_ray_to`](crate::math::spawn_ray_to) the light point, which stops short of it, so the
 //! light does not shadow itself.
 //!
-//! **Pitfalls** (each biases the image; `cargo test checkpoint8` compares the mean with Lambert's
-//! closed form for polygon lights):
+//! **Pitfalls** (each biases the image; `cargo test checkpoint8` compares the mean of 40,000
+//! samples with Lambert's closed form for polygon lights, `E = (L_e / 2) Σ β_i (n · ĝ_i)` with
+//! `β_i` the angle of edge `i` seen from `x` and `ĝ_i` the normal of the plane through `x` and
+//! that edge, by a t-test):
 //! - Dropping `cos θ_l / r²` (integrating over area as if it were solid angle).
 //! - Dropping `cos θ_l` only: light from the light's edge-on parts is too strong.
 //! - Forgetting `P(light)` or `pdf_A` (or using `1 / n` for a light chosen by power).

@@ -15,6 +15,7 @@
 mod classroom;
 mod first_build;
 mod gradescope;
+mod handouts;
 mod starter;
 mod stub_matrix;
 mod student_loop;

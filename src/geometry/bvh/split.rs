@@ -9,13 +9,16 @@
 //! triangles' input index, so the tree is the same on every run and every machine.
 //!
 //! **Conventions.** The split reorders `prims` in place and returns where the second half starts;
-//! the harness ([`super::build_node`]) recurses into both halves and makes the leaves. Both halves
+//! the harness ([`super::build_node`]) recurses into both halves and makes leaves of at most 4
+//! triangles, stored flat, depth first: a node's first child is the next node, the second is at
+//! its `second_child`. Both halves
 //! are non-empty whenever `n ≥ 2`: the median split always makes progress, even when every
 //! centroid is the same point.
 //!
 //! **Pitfalls.**
 //! - Splitting by the node's *bounds* instead of the *centroid* bounds picks bad axes for long
 //!   triangles.
+//! - Losing or repeating a triangle: the tree's `validate()` says which.
 //! - `partial_cmp(..).unwrap()` panics on NaN; `f32::total_cmp` never does.
 //! - A full sort works, but only the partition matters: `select_nth_unstable_by` finds it in O(n).
 //!
