@@ -249,3 +249,21 @@ fn grader_progress_counts_up_to_its_own_total_every_time() {
         assert_eq!(Some(bar.position()), bar.length());
     }
 }
+
+/// `grader batch` counts students: one step each, up to the class's size, also for submissions
+/// that cannot be graded.
+#[test]
+fn grader_batch_progress_counts_up_to_the_class_size() {
+    let class = scratch("progress-class");
+    // Archives that are not zips: each costs its row, and the bar a step, in no time.
+    for student in ["alice", "bob"] {
+        std::fs::write(class.join(format!("{student}.zip")), "not a zip").unwrap();
+    }
+    let out = scratch("progress-out");
+    let bar = indicatif::ProgressBar::hidden();
+    let rows = raylab_grade::batch::grade_all(&root(), &[class.clone()], &out, &bar).unwrap();
+    std::fs::remove_dir_all(&class).unwrap();
+    std::fs::remove_dir_all(&out).unwrap();
+    assert_eq!(rows.len(), 2);
+    assert_eq!((bar.position(), bar.length()), (2, Some(2)));
+}

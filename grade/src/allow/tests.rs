@@ -345,6 +345,7 @@ fn grader_reports_the_line_of_the_rejected_code() {
     assert_eq!(line("let a = 1;\n\nlet b = std::fs::read(\"x\");"), 3);
     assert_eq!(line("let a = 1;\nlet b = r#std::fs::read(\"x\");"), 2);
     assert_eq!(line("let a = 1;\n#[no_mangle]\nfn f() {}"), 2);
+    assert_eq!(line("let a = 1;\n#[doc = include_str!(\"x\")]\nlet b = 2;"), 2);
 }
 
 /// The compiler is the second wall: the renderer denies `unsafe` code, and only the harness's
