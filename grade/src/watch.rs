@@ -2,13 +2,14 @@
 //! does, moving on to the next checkpoint when one passes, and the ones that passed again with it,
 //! so a save that breaks an earlier checkpoint is named as the regression it is.
 //!
-//! Each round runs the tests first and answers as soon as one fails; the scenes are rendered only
-//! when every test passes.
+//! Each round runs the current checkpoint's tests first and answers as soon as they ran, then
+//! the tests of the checkpoints that passed before; the scenes are rendered only once every test
+//! passes.
 //!
 //! The loop is written against two seams so it can be tested without files or builds: a
 //! [`Changes`] source that blocks until something was saved, and a `check` function that grades
 //! checkpoints, tests only or in full. The grader binary gives it [`Polling`] (modification times
-//! of the tree's Rust sources, scanned every 300 ms: no platform watcher needed) and
+//! of the tree's Rust sources, scanned every 100 ms: no platform watcher needed) and
 //! [`grade`](crate::grading::grade).
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -61,7 +62,7 @@ impl Polling {
 impl Changes for Polling {
     fn wait(&mut self) -> bool {
         loop {
-            std::thread::sleep(Duration::from_millis(300));
+            std::thread::sleep(Duration::from_millis(100));
             let now = self.scan();
             if now != self.seen {
                 self.seen = now;
@@ -97,35 +98,37 @@ pub fn watch(
     let mut passed: BTreeSet<u32> = BTreeSet::new();
     let mut current = first;
     let mut saved = false;
+    let tests_pass = |r: &CheckpointResult| (r.test_score - r.checkpoint.all_test_points()).abs() < 1e-9;
+    let full = |r: &CheckpointResult| (r.score() - r.max_score(true)).abs() < 1e-9;
     while current <= last {
-        let ids: Vec<u32> =
-            if saved { passed.iter().copied().chain([current]).collect() } else { vec![current] };
-        let again = if ids.len() > 1 {
-            format!(" (and again {})", list(&ids[..ids.len() - 1]))
-        } else {
-            String::new()
-        };
-        writeln!(
-            out,
-            "{}checking checkpoint {current}{again}...",
-            if stamped { stamp() } else { String::new() }
-        )?;
+        let again: Vec<u32> = if saved { passed.iter().copied().collect() } else { Vec::new() };
+        let also = if again.is_empty() { String::new() } else { format!(" (and again {})", list(&again)) };
+        let time = if stamped { stamp() } else { String::new() };
+        writeln!(out, "{time}checking checkpoint {current}{also}...")?;
         out.flush()?;
         saved = false;
-        // Tests first, answered as soon as they ran: the scenes only when every test passes.
-        let mut results = check(&ids, Stage::Tests);
-        let tests_pass = |r: &CheckpointResult| (r.test_score - r.checkpoint.all_test_points()).abs() < 1e-9;
-        if results.as_ref().is_ok_and(|results| results.iter().all(tests_pass)) {
-            results = check(&ids, Stage::Full);
-        }
-        let results = match results {
-            Ok(results) => results,
-            Err(e) => {
-                writeln!(out, "checkpoint {current}: cannot grade: {e}")?;
-                Vec::new()
+        // The current checkpoint's tests first, answered as soon as they ran; then the tests of
+        // those that passed before; the scenes only once every test passes.
+        let mut answered = false;
+        let results = match check(&[current], Stage::Tests) {
+            Ok(own) if own.iter().all(tests_pass) => {
+                check(&again.iter().copied().chain([current]).collect::<Vec<_>>(), Stage::Full)
             }
+            Ok(own) => {
+                for r in &own {
+                    answer(out, r)?;
+                    answered = true;
+                }
+                out.flush()?;
+                let earlier = if again.is_empty() { Ok(Vec::new()) } else { check(&again, Stage::Tests) };
+                earlier.map(|earlier| earlier.into_iter().chain(own).collect())
+            }
+            Err(e) => Err(e),
         };
-        let full = |r: &CheckpointResult| (r.score() - r.max_score(true)).abs() < 1e-9;
+        let results = results.unwrap_or_else(|e| {
+            let _ = writeln!(out, "checkpoint {current}: cannot grade: {e}");
+            Vec::new()
+        });
         let regressions: Vec<&CheckpointResult> =
             results.iter().filter(|r| passed.contains(&r.checkpoint.id) && !full(r)).collect();
         for r in &regressions {
@@ -146,12 +149,7 @@ pub fn watch(
                 current += 1;
                 continue;
             }
-            Some(result) if regressions.is_empty() => {
-                writeln!(out, "checkpoint {current}: {:.1}/{:.0}", result.score(), result.max_score(true))?;
-                writeln!(out, "  {}", first_problem(result))?;
-                let advice = result.advice.clone().unwrap_or_else(|| hint_text(&result.checkpoint));
-                writeln!(out, "  {advice}")?;
-            }
+            Some(result) if regressions.is_empty() && !answered => answer(out, result)?,
             _ => {}
         }
         writeln!(out, "waiting for a save...")?;
@@ -162,6 +160,15 @@ pub fn watch(
         saved = true;
     }
     writeln!(out, "every checkpoint up to {last} passes")
+}
+
+/// A checkpoint that lost points: its points, what to look at first, and what to read.
+fn answer(out: &mut impl Write, result: &CheckpointResult) -> std::io::Result<()> {
+    let id = result.checkpoint.id;
+    writeln!(out, "checkpoint {id}: {:.1}/{:.0}", result.score(), result.max_score(true))?;
+    writeln!(out, "  {}", first_problem(result))?;
+    let advice = result.advice.clone().unwrap_or_else(|| hint_text(&result.checkpoint));
+    writeln!(out, "  {advice}")
 }
 
 /// "2, 3 and 4".
@@ -257,7 +264,8 @@ mod tests {
                 Stage::Tests => graded.push(ids.to_vec()),
                 Stage::Full => full.push(ids.to_vec()),
             }
-            let broken = graded.len() == 3;
+            // The save before the third round breaks checkpoint 2; the next one mends it.
+            let broken = graded.len() == 4;
             Ok(ids
                 .iter()
                 .map(|&id| if id == 3 || (id == 2 && broken) { result(id, 9, 1) } else { result(id, 10, 0) })
@@ -266,9 +274,12 @@ mod tests {
         let mut out = Vec::new();
         watch(&mut Saves(3), check, (2, 3), true, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
-        assert_eq!(graded, [vec![2], vec![3], vec![2, 3], vec![2], vec![3]], "{text}");
+        // Each round: the current checkpoint's tests first (the answer), then those that passed.
+        assert_eq!(graded, [vec![2], vec![3], vec![3], vec![2], vec![2], vec![3]], "{text}");
         // The scenes only in rounds whose tests all pass.
         assert_eq!(full, [vec![2], vec![2]], "{text}");
+        let answer = text.find("checkpoint 3: 9.0/15").unwrap();
+        assert!(answer < text.find("checkpoint 2 passed before").unwrap(), "the answer first: {text}");
         assert!(text.contains("checkpoint 2 passed before and fails now: first failing test"), "{text}");
         assert!(text.contains("checking checkpoint 3 (and again 2)..."), "{text}");
         let rounds: Vec<&str> = text.lines().filter(|l| l.contains("checking")).collect();
