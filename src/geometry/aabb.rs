@@ -140,8 +140,15 @@ mod checkpoint3 {
 
     #[track_caller]
     fn assert_interval(got: Option<(f32, f32)>, t_in: f32, t_out: f32) {
-        let (a, b) = got.unwrap_or_else(|| panic!("expected a hit [{t_in}, {t_out}]"));
-        assert!((a - t_in).abs() < 1e-6 && (b - t_out).abs() < 1e-6, "[{a}, {b}] vs [{t_in}, {t_out}]");
+        let (a, b) = got.unwrap_or_else(|| panic!("expected the overlap [{t_in}, {t_out}], got a miss"));
+        let close = (a - t_in).abs() < 1e-6 && (b - t_out).abs() < 1e-6;
+        assert!(close, "expected the overlap [{t_in}, {t_out}], got [{a}, {b}]");
+    }
+
+    /// The ray must miss the box.
+    #[track_caller]
+    fn assert_miss(got: Option<(f32, f32)>, why: &str) {
+        assert!(got.is_none(), "{why}: expected a miss, got {got:?}");
     }
 
     #[test]
@@ -168,13 +175,13 @@ mod checkpoint3 {
     #[test]
     fn a_box_behind_the_origin_is_missed() {
         let ray = Ray::new(Vec3::new(2.0, 0.5, 0.5), Vec3::X);
-        assert_eq!(unit_box().intersect(&ray), None);
+        assert_miss(unit_box().intersect(&ray), "the box lies at t < 0, before t_min");
     }
 
     #[test]
     fn a_box_beyond_t_max_is_missed() {
         let ray = Ray::segment(Vec3::new(-2.0, 0.5, 0.5), Vec3::X, 1.5);
-        assert_eq!(unit_box().intersect(&ray), None);
+        assert_miss(unit_box().intersect(&ray), "the box starts at t = 2, after t_max = 1.5");
         let longer = Ray::segment(Vec3::new(-2.0, 0.5, 0.5), Vec3::X, 2.5);
         assert_interval(unit_box().intersect(&longer), 2.0, 2.5);
     }
@@ -198,8 +205,8 @@ mod checkpoint3 {
     fn zero_direction_components_inside_the_slab_hit_and_outside_miss() {
         let along_x = |y: f32, z: f32| Ray::new(Vec3::new(-1.0, y, z), Vec3::X);
         assert_interval(unit_box().intersect(&along_x(0.5, 0.5)), 1.0, 2.0);
-        assert_eq!(unit_box().intersect(&along_x(1.5, 0.5)), None);
-        assert_eq!(unit_box().intersect(&along_x(0.5, -0.5)), None);
+        assert_miss(unit_box().intersect(&along_x(1.5, 0.5)), "d_y = 0 and y = 1.5 is outside the y slab");
+        assert_miss(unit_box().intersect(&along_x(0.5, -0.5)), "d_z = 0 and z = -0.5 is outside the z slab");
     }
 
     #[test]
@@ -211,7 +218,10 @@ mod checkpoint3 {
             }
         }
         let outside_plane_parallel = Ray::new(Vec3::new(-1.0, 1.0 + 1e-6, 0.5), Vec3::X);
-        assert_eq!(unit_box().intersect(&outside_plane_parallel), None);
+        assert_miss(
+            unit_box().intersect(&outside_plane_parallel),
+            "parallel to the face y = 1, just above it",
+        );
     }
 
     /// The overlap in f64, from the definition: each slab handled as its own case.
@@ -257,10 +267,18 @@ mod checkpoint3 {
             match (got, want) {
                 (Some((a, b)), Some((c, d))) => {
                     hits += 1;
-                    assert!((a as f64 - c).abs() < tol(c) && (b as f64 - d).abs() < tol(d));
+                    let close = (a as f64 - c).abs() < tol(c) && (b as f64 - d).abs() < tol(d);
+                    assert!(close, "{ray:?}: got [{a}, {b}], the exact overlap is [{c}, {d}]");
                 }
-                (None, Some((c, d))) => assert!(d - c < 2.0 * tol(d), "missed [{c}, {d}]"),
-                (Some((a, b)), None) => assert!(b - a < 2.0 * tol(b as f64) as f32, "phantom hit"),
+                (None, Some((c, d))) => {
+                    assert!(d - c < 2.0 * tol(d), "{ray:?}: missed the overlap [{c}, {d}]")
+                }
+                (Some((a, b)), None) => {
+                    assert!(
+                        b - a < 2.0 * tol(b as f64) as f32,
+                        "{ray:?}: [{a}, {b}], but the ray misses the box"
+                    )
+                }
                 (None, None) => {}
             }
         }

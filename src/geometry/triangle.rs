@@ -159,18 +159,28 @@ mod checkpoint2 {
     #[test]
     fn a_ray_through_the_middle_hits_with_its_barycentrics() {
         let (p0, p1, p2) = unit_triangle();
-        let hit = intersect_triangle(&ray_down_at(0.25, 0.5), p0, p1, p2).expect("hit");
-        assert!((hit.t - 1.0).abs() < 1e-6);
-        assert!((hit.b1 - 0.25).abs() < 1e-6);
-        assert!((hit.b2 - 0.5).abs() < 1e-6);
+        let hit = intersect_triangle(&ray_down_at(0.25, 0.5), p0, p1, p2)
+            .expect("a ray straight down onto (0.25, 0.5, 0) must hit the unit triangle");
+        assert!(
+            (hit.t - 1.0).abs() < 1e-6,
+            "the hit is 1 unit below the origin: expected t = 1, got {}",
+            hit.t
+        );
+        assert!(
+            (hit.b1 - 0.25).abs() < 1e-6 && (hit.b2 - 0.5).abs() < 1e-6,
+            "on the unit triangle (b1, b2) = (x, y): expected (0.25, 0.5), got ({}, {})",
+            hit.b1,
+            hit.b2
+        );
     }
 
     #[test]
     fn the_back_face_is_hit_too() {
         let (p0, p1, p2) = unit_triangle();
         let from_below = Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
-        let hit = intersect_triangle(&from_below, p0, p1, p2).expect("two-sided");
-        assert!((hit.t - 1.0).abs() < 1e-6);
+        let hit = intersect_triangle(&from_below, p0, p1, p2)
+            .expect("a ray from below (det < 0) must hit: triangles are two-sided");
+        assert!((hit.t - 1.0).abs() < 1e-6, "hit from below at distance 1: expected t = 1, got {}", hit.t);
     }
 
     #[test]
@@ -180,10 +190,15 @@ mod checkpoint2 {
         let inside = [(d, d), (0.5, d), (d, 0.5), (0.5 - d, 0.5 - d), (1.0 - 3.0 * d, d)];
         let outside = [(-d, 0.5), (0.5, -d), (0.5 + d, 0.5 + d), (1.0 + d, 0.0), (-d, -d)];
         for (x, y) in inside {
-            assert!(intersect_triangle(&ray_down_at(x, y), p0, p1, p2).is_some(), "({x}, {y})");
+            let got = intersect_triangle(&ray_down_at(x, y), p0, p1, p2);
+            assert!(got.is_some(), "({x}, {y}) is just inside the triangle: expected a hit, got a miss");
         }
         for (x, y) in outside {
-            assert!(intersect_triangle(&ray_down_at(x, y), p0, p1, p2).is_none(), "({x}, {y})");
+            let got = intersect_triangle(&ray_down_at(x, y), p0, p1, p2);
+            assert!(
+                got.is_none(),
+                "({x}, {y}) is just outside (b1, b2 >= 0, b1 + b2 <= 1): expected a miss, got {got:?}"
+            );
         }
     }
 
@@ -191,7 +206,11 @@ mod checkpoint2 {
     fn a_triangle_behind_the_origin_is_not_hit() {
         let (p0, p1, p2) = unit_triangle();
         let away = Ray::new(Vec3::new(0.2, 0.2, 1.0), Vec3::Z);
-        assert!(intersect_triangle(&away, p0, p1, p2).is_none());
+        let got = intersect_triangle(&away, p0, p1, p2);
+        assert!(
+            got.is_none(),
+            "the triangle is behind the ray (t < 0 < t_min): expected a miss, got {got:?}"
+        );
     }
 
     #[test]
@@ -201,7 +220,7 @@ mod checkpoint2 {
         ray.t_max = 0.999;
         assert!(intersect_triangle(&ray, p0, p1, p2).is_none(), "beyond t_max");
         ray.t_max = 1.001;
-        assert!(intersect_triangle(&ray, p0, p1, p2).is_some());
+        assert!(intersect_triangle(&ray, p0, p1, p2).is_some(), "t = 1 inside (0, 1.001): expected a hit");
         ray.t_min = 1.001;
         ray.t_max = f32::INFINITY;
         assert!(intersect_triangle(&ray, p0, p1, p2).is_none(), "before t_min");
@@ -255,7 +274,12 @@ mod checkpoint2 {
         let s = 1e-6;
         let (p0, p1, p2) = (Vec3::ZERO, Vec3::new(s, 0.0, 0.0), Vec3::new(0.0, s, 0.0));
         let ray = Ray::new(Vec3::new(s / 4.0, s / 4.0, 1.0), -Vec3::Z);
-        assert!(intersect_triangle(&ray, p0, p1, p2).is_some());
+        let got = intersect_triangle(&ray, p0, p1, p2);
+        assert!(
+            got.is_some(),
+            "a 1e-6 triangle seen head-on must hit: judge \"parallel\" relative to |e1 × e2|, \
+             not by a bare |det| threshold"
+        );
     }
 
     #[test]
@@ -275,11 +299,14 @@ mod checkpoint2 {
             if cos < 0.05 || double_area < 0.05 {
                 continue; // grazing or sliver: the input is ill-conditioned, not the code wrong
             }
-            let hit = tri.intersect(&ray).expect("aimed at the inside");
+            let hit = tri
+                .intersect(&ray)
+                .unwrap_or_else(|| panic!("a ray aimed at ({b1}, {b2}) inside {tri:?} missed"));
             // Error of a ratio of triple products with O(1) vectors: a few ε per product over |det|.
             let tol = 64.0 * f32::EPSILON * 9.0 / (cos * double_area);
             assert!((hit.b1 - b1).abs() < tol && (hit.b2 - b2).abs() < tol, "{hit:?} vs ({b1}, {b2})");
-            assert!((hit.t - (target - origin).length()).abs() < tol * 3.0);
+            let t = (target - origin).length();
+            assert!((hit.t - t).abs() < tol * 3.0, "aimed from {t} away: expected t = {t}, got {}", hit.t);
         }
     }
 
@@ -299,8 +326,16 @@ mod checkpoint2 {
             assert_eq!(got.is_some(), oracle.is_some(), "{ray:?} {tri:?}: {got:?} vs {oracle:?}");
             if let (Some(g), Some((t, b1, b2, bound))) = (got, oracle) {
                 hits += 1;
-                assert!((g.t as f64 - t).abs() < bound * t.max(1.0));
-                assert!((g.b1 as f64 - b1).abs() < bound && (g.b2 as f64 - b2).abs() < bound);
+                assert!(
+                    (g.t as f64 - t).abs() < bound * t.max(1.0),
+                    "{ray:?} {tri:?}: t = {} vs exact {t}",
+                    g.t
+                );
+                let (gb1, gb2) = (g.b1 as f64, g.b2 as f64);
+                assert!(
+                    (gb1 - b1).abs() < bound && (gb2 - b2).abs() < bound,
+                    "{ray:?} {tri:?}: barycentrics ({gb1}, {gb2}) vs exact ({b1}, {b2})"
+                );
             }
             agreed += 1;
         }
