@@ -101,7 +101,11 @@ mod checkpoint5 {
             let wt = refract(wo, Vec3::Y, 1.0 / 1.5).expect("air to glass always refracts");
             assert!((wt.length() - 1.0).abs() < 1e-6, "unit length");
             assert!(wt.y < 0.0 && wt.x < 0.0, "crosses to the other side, continuing forward");
-            assert!((1.0 * sin_to_normal(wo) - 1.5 * sin_to_normal(wt)).abs() < 1e-6);
+            let (si, st) = (sin_to_normal(wo), sin_to_normal(wt));
+            assert!(
+                (1.0 * si - 1.5 * st).abs() < 1e-6,
+                "{degrees}° from air into glass: Snell wants 1.0 sin θi = 1.5 sin θt, got {si} and {st} (is eta = 1 / 1.5?)"
+            );
         }
         let wt = refract(wo_at(30.0), Vec3::Y, 1.5).expect("below the critical angle");
         assert!((1.5 * 0.5 - sin_to_normal(wt)).abs() < 1e-6, "glass to air: sin θt = 1.5 sin θi");
@@ -109,14 +113,22 @@ mod checkpoint5 {
 
     #[test]
     fn normal_incidence_passes_straight_through() {
-        assert!((refract(Vec3::Y, Vec3::Y, 1.0 / 1.5).unwrap() + Vec3::Y).length() < 1e-6);
+        let wt = refract(Vec3::Y, Vec3::Y, 1.0 / 1.5).expect("head-on always refracts");
+        assert!((wt + Vec3::Y).length() < 1e-6, "head-on: expected straight through (-n), got {wt}");
     }
 
     #[test]
     fn total_internal_reflection_beyond_the_critical_angle() {
         // Critical angle from glass of 1.5: asin(1 / 1.5) = 41.81 degrees.
-        assert!(refract(wo_at(41.0), Vec3::Y, 1.5).is_some());
-        assert_eq!(refract(wo_at(42.0), Vec3::Y, 1.5), None);
+        assert!(
+            refract(wo_at(41.0), Vec3::Y, 1.5).is_some(),
+            "41° from glass is below the critical 41.8°: refracts"
+        );
+        let beyond = refract(wo_at(42.0), Vec3::Y, 1.5);
+        assert_eq!(
+            beyond, None,
+            "42° from glass is beyond the critical 41.8°: total internal reflection, no ray"
+        );
         // Leaving glass at 60 degrees inside: the ray reflects inside, as a mirror.
         let inside_wo = -wo_at(60.0); // below the surface, outward normal +y
         let wi = refract_or_reflect(inside_wo, Vec3::Y, 1.5);
@@ -141,11 +153,24 @@ mod checkpoint5 {
     fn entering_and_leaving_are_read_from_the_outward_normal() {
         // Seen from outside at 45 degrees: bends toward the normal (sin θt = sin 45° / 1.5).
         let enter = refract_or_reflect(wo_at(45.0), Vec3::Y, 1.5);
-        assert!(enter.y < 0.0);
-        assert!((sin_to_normal(enter) - 45f32.to_radians().sin() / 1.5).abs() < 1e-6);
+        assert!(
+            enter.y < 0.0,
+            "entering from outside (n_outward · wo > 0) must cross into the glass: {enter}"
+        );
+        let want = 45f32.to_radians().sin() / 1.5;
+        let got = sin_to_normal(enter);
+        assert!(
+            (got - want).abs() < 1e-6,
+            "entering at 45°: sin θt = sin 45° / 1.5 = {want}, got {got} (eta = 1 / ior)"
+        );
         // From inside at 20 degrees: leaves bending away from the normal.
         let leave = refract_or_reflect(-wo_at(20.0), Vec3::Y, 1.5);
-        assert!(leave.y > 0.0);
-        assert!((sin_to_normal(leave) - 1.5 * 20f32.to_radians().sin()).abs() < 1e-6);
+        assert!(leave.y > 0.0, "leaving from inside must cross out of the glass (flip the normal): {leave}");
+        let want = 1.5 * 20f32.to_radians().sin();
+        let got = sin_to_normal(leave);
+        assert!(
+            (got - want).abs() < 1e-6,
+            "leaving at 20°: sin θt = 1.5 sin 20° = {want}, got {got} (eta = ior)"
+        );
     }
 }

@@ -101,9 +101,13 @@ mod checkpoint4 {
             zs.iter().enumerate().map(|(i, &z)| Vec3::new(i as f32 * 0.2, 0.0, z)).collect();
         let mut prims = prims_at(&centroids);
         let split = object_median_split(&mut prims);
-        assert_eq!(split, Split { axis: 2, mid: 3 });
+        assert_eq!(
+            split,
+            Split { axis: 2, mid: 3 },
+            "centroids spread most along z (axis 2); 6 triangles split at 3"
+        );
         assert_eq!(indices(&prims[..3]), vec![1, 3, 5], "the three smallest z");
-        assert_eq!(indices(&prims[3..]), vec![0, 2, 4]);
+        assert_eq!(indices(&prims[3..]), vec![0, 2, 4], "the three largest z");
     }
 
     #[test]
@@ -114,7 +118,11 @@ mod checkpoint4 {
         for p in &mut prims {
             p.bounds = Aabb::new(p.centroid - Vec3::X * 50.0, p.centroid + Vec3::X * 50.0);
         }
-        assert_eq!(object_median_split(&mut prims).axis, 1);
+        let axis = object_median_split(&mut prims).axis;
+        assert_eq!(
+            axis, 1,
+            "the triangles' bounds are widest along x, their centroids along y: split along y"
+        );
     }
 
     #[test]
@@ -122,8 +130,12 @@ mod checkpoint4 {
         let mut prims = prims_at(&[Vec3::ONE; 7]);
         prims.reverse();
         let split = object_median_split(&mut prims);
-        assert_eq!(split.mid, 3);
-        assert_eq!(indices(&prims[..3]), vec![0, 1, 2]);
+        assert_eq!(split.mid, 3, "7 equal centroids still split at n / 2 = 3: both halves non-empty");
+        assert_eq!(
+            indices(&prims[..3]),
+            vec![0, 1, 2],
+            "ties go by input index, so every build gives one tree"
+        );
     }
 
     #[test]

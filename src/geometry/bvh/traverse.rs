@@ -146,8 +146,8 @@ mod checkpoint4 {
         let bvh = Bvh::build(&[], SplitMethod::ObjectMedian);
         let ray = Ray::new(Vec3::ZERO, Vec3::X);
         let mut stats = TraversalStats::default();
-        assert_eq!(bvh.intersect(&ray, &mut stats), None);
-        assert!(!bvh.occluded(&ray, &mut stats));
+        assert_eq!(bvh.intersect(&ray, &mut stats), None, "an empty tree has no root: nothing to hit");
+        assert!(!bvh.occluded(&ray, &mut stats), "an empty tree occludes nothing");
     }
 
     #[test]
@@ -159,8 +159,11 @@ mod checkpoint4 {
         let bvh = Bvh::build(&quad, SplitMethod::ObjectMedian);
         let mut stats = TraversalStats::default();
         let short = Ray::segment(Vec3::new(0.1, 0.2, 2.0), -Vec3::Z, 1.5);
-        assert_eq!(bvh.intersect(&short, &mut stats), None);
-        assert!(!bvh.occluded(&short, &mut stats));
+        assert_eq!(bvh.intersect(&short, &mut stats), None, "the quad is at t = 2, beyond t_max = 1.5");
+        assert!(
+            !bvh.occluded(&short, &mut stats),
+            "a shadow ray stops at its t_max = 1.5: the quad at t = 2 does not block it"
+        );
     }
 
     #[test]
@@ -179,8 +182,12 @@ mod checkpoint4 {
         for (z0, dir, nearest_z) in [(-1.0, Vec3::Z, 0.0), (3.0, -Vec3::Z, 1.275)] {
             let ray = Ray::new(Vec3::new(0.1, 0.3, z0), dir);
             let mut stats = TraversalStats::default();
-            let hit = bvh.intersect(&ray, &mut stats).expect("hit");
-            assert!((ray.at(hit.hit.t).z - nearest_z).abs() < 1e-5);
+            let hit = bvh.intersect(&ray, &mut stats).expect("a ray down the stack's axis hits it");
+            let z = ray.at(hit.hit.t).z;
+            assert!(
+                (z - nearest_z).abs() < 1e-5,
+                "the closest plane is at z = {nearest_z}, got the one at z = {z}"
+            );
             assert!(stats.box_tests < 2 * depth, "{stats:?} for depth {depth}");
             assert!((1..=4).contains(&stats.triangle_tests), "one leaf of 1 to 4 triangles: {stats:?}");
         }
