@@ -94,7 +94,7 @@ mod checkpoint7 {
             assert!(p.x >= 7.0 && p.x <= 8.0 && p.y >= 3.0 && p.y <= 4.0, "{p} outside pixel (7, 3)");
             Vec3::splat(2.0)
         });
-        assert_eq!(count, 9);
+        assert_eq!(count, 9, "spp = 9: expected exactly 9 radiance samples");
         assert!((value - Vec3::splat(2.0)).abs().max_element() < 1e-6, "a constant stays constant: {value}");
     }
 

@@ -137,7 +137,10 @@ mod checkpoint6 {
         let target = Vec3::new(0.5, 0.0, -0.5);
         let a = li_looking_at(&scene, target, Vec3::new(0.5, 4.0, -0.5));
         let b = li_looking_at(&scene, target, Vec3::new(5.0, 0.5, 3.0));
-        assert!((a - b).abs().max_element() < 1e-5 * a.x);
+        assert!(
+            (a - b).abs().max_element() < 1e-5 * a.x,
+            "a Lambertian point looks the same from everywhere: {a} vs {b}"
+        );
     }
 
     #[test]
@@ -148,8 +151,11 @@ mod checkpoint6 {
         let both = li_looking_at(&floor_scene(&format!("{l1}{l2}")), target, eye);
         let sum =
             li_looking_at(&floor_scene(&l1), target, eye) + li_looking_at(&floor_scene(&l2), target, eye);
-        assert!((both - sum).abs().max_element() < 1e-6);
-        assert!(both.x > 0.0);
+        assert!(
+            (both - sum).abs().max_element() < 1e-6,
+            "two lights: expected the sum of each alone, {sum}, got {both}"
+        );
+        assert!(both.x > 0.0, "both lights see the point: expected light, got {both}");
     }
 
     #[test]
@@ -158,22 +164,28 @@ mod checkpoint6 {
         let blocker = "[[objects]]\nshape = \"quad\"\nmaterial = \"floor\"\ntranslate = [0, 0.5, 0]\nscale = [0.2, 1, 0.2]\n";
         let scene = floor_scene(&format!("{}{blocker}", light_at(0.0, 1.0, 0.0, 1.0)));
         let shadowed = li_looking_at(&scene, Vec3::new(0.1, 0.0, 0.0), Vec3::new(3.0, 1.0, 0.0));
-        assert_eq!(shadowed, Vec3::ZERO);
+        assert_eq!(
+            shadowed,
+            Vec3::ZERO,
+            "the blocker hides the light from this point: the shadow ray must find it"
+        );
         let lit = li_looking_at(&scene, Vec3::new(1.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 0.0));
-        assert!(lit.x > 0.0);
+        assert!(lit.x > 0.0, "this point sees the light past the blocker: expected light, got {lit}");
     }
 
     #[test]
     fn glass_blocks_shadow_rays() {
         let glass = "[[objects]]\nshape = \"sphere\"\nmaterial = \"glass\"\ntranslate = [0, 0.5, 0]\nscale = [0.2, 0.2, 0.2]\n";
         let scene = floor_scene(&format!("{}{glass}", light_at(0.0, 1.0, 0.0, 1.0)));
-        assert_eq!(li_looking_at(&scene, Vec3::new(0.05, 0.0, 0.0), Vec3::new(3.0, 1.0, 0.0)), Vec3::ZERO);
+        let got = li_looking_at(&scene, Vec3::new(0.05, 0.0, 0.0), Vec3::new(3.0, 1.0, 0.0));
+        assert_eq!(got, Vec3::ZERO, "a glass ball between the point and the light blocks the shadow ray");
     }
 
     #[test]
     fn a_light_behind_the_surface_gives_nothing() {
         let scene = floor_scene(&light_at(0.0, -1.0, 0.0, 1.0));
-        assert_eq!(li_looking_at(&scene, Vec3::new(0.3, 0.0, 0.0), Vec3::new(0.0, 2.0, 1.0)), Vec3::ZERO);
+        let got = li_looking_at(&scene, Vec3::new(0.3, 0.0, 0.0), Vec3::new(0.0, 2.0, 1.0));
+        assert_eq!(got, Vec3::ZERO, "seen from above, a light below the floor has cos θ ≤ 0: nothing");
         // Seen from below, the same light lights the underside: the normal faces the viewer.
         let below = li_looking_at(&scene, Vec3::ZERO, Vec3::new(0.0, -3.0, 0.5));
         assert_close(below, 0.5 / PI);

@@ -123,7 +123,8 @@ mod checkpoint5 {
     fn a_ray_that_hits_nothing_is_black() {
         let scene = slab_scene(1.5);
         let world = World::new(&scene, SplitMethod::ObjectMedian);
-        assert_eq!(integrator(8).li(&world, Ray::new(Vec3::new(0.0, 3.0, 0.0), Vec3::Y)), Vec3::ZERO);
+        let got = integrator(8).li(&world, Ray::new(Vec3::new(0.0, 3.0, 0.0), Vec3::Y));
+        assert_eq!(got, Vec3::ZERO, "a ray up into the empty sky hits nothing: black");
     }
 
     #[test]
@@ -218,7 +219,11 @@ mod checkpoint5 {
         let world = World::new(&scene, SplitMethod::ObjectMedian);
         let down = Ray::new(Vec3::new(0.2, 1.5, 0.1), -Vec3::Y);
         assert_eq!(integrator(1).li(&world, down), Vec3::ZERO, "two glass surfaces need depth 2");
-        assert!((integrator(2).li(&world, down) - Vec3::splat(0.5)).abs().max_element() < 1e-5);
+        let got = integrator(2).li(&world, down);
+        assert!(
+            (got - Vec3::splat(0.5)).abs().max_element() < 1e-5,
+            "depth 2 crosses both glass faces to the floor, seen head-on: albedo 0.5 · |n · wo| = 0.5, got {got}"
+        );
     }
 
     #[test]
@@ -229,9 +234,14 @@ mod checkpoint5 {
         let world = World::new(&scene, SplitMethod::ObjectMedian);
         let dir = Vec3::new(60f32.to_radians().sin(), -60f32.to_radians().cos(), 0.0);
         let inside = Ray::new(Vec3::new(0.0, 0.0, 0.0), dir);
-        assert!(trace_to_diffuse(&world, inside, 6).is_none());
+        let got = trace_to_diffuse(&world, inside, 6);
+        assert!(
+            got.is_none(),
+            "60° inside glass is beyond the critical 41.8°: it reflects until depth runs out, got {got:?}"
+        );
         // At 30 degrees it leaves through the bottom face and reaches the floor.
         let dir = Vec3::new(30f32.to_radians().sin(), -30f32.to_radians().cos(), 0.0);
-        assert!(trace_to_diffuse(&world, Ray::new(Vec3::ZERO, dir), 6).is_some());
+        let got = trace_to_diffuse(&world, Ray::new(Vec3::ZERO, dir), 6);
+        assert!(got.is_some(), "30° inside glass leaves through the bottom face and reaches the floor");
     }
 }
