@@ -217,10 +217,18 @@ mod checkpoint8 {
         let blocker = "[[objects]]\nshape = \"quad\"\nmaterial = \"floor\"\ntranslate = [0, 0.5, 0]\nscale = [2, 1, 2]\n";
         let scene = floor_scene(&format!("{}{blocker}", ceiling_light(0.0, 1.0, 0.0, 0.5, 4.0)));
         let blocked = estimates(&scene, Vec3::new(0.1, 0.0, 0.1), 2_000, 87);
-        assert_eq!((blocked.mean, blocked.variance), (0.0, 0.0));
+        assert_eq!(
+            (blocked.mean, blocked.variance),
+            (0.0, 0.0),
+            "a blocker hides the whole light: every sample 0"
+        );
         let up = ceiling_light(0.0, 1.0, 0.0, 0.5, 4.0).replace("rotate = [180, 0, 0]", "rotate = [0, 0, 0]");
         let away = estimates(&floor_scene(&up), Vec3::new(0.1, 0.0, 0.1), 2_000, 88);
-        assert_eq!((away.mean, away.variance), (0.0, 0.0));
+        assert_eq!(
+            (away.mean, away.variance),
+            (0.0, 0.0),
+            "a light facing away (cos θ_l ≤ 0): every sample 0"
+        );
     }
 }
 
@@ -253,9 +261,11 @@ mod tests {
         let world = World::new(&scene, crate::geometry::SplitMethod::ObjectMedian);
         let seen =
             |from: Vec3, dir: Vec3| world.intersect(&Ray::new(from, dir)).expect("the quad").emitted(-dir);
-        assert_eq!(seen(Vec3::new(0.1, 1.0, 0.2), -Vec3::Y), Vec3::new(1.0, 2.0, 3.0));
-        assert_eq!(seen(Vec3::new(0.1, -1.0, 0.2), Vec3::Y), Vec3::ZERO);
-        assert_eq!(scene.area_lights.len(), 1);
-        assert_eq!(scene.light_powers, vec![std::f32::consts::PI * 4.0 * 2.0]);
+        let front = seen(Vec3::new(0.1, 1.0, 0.2), -Vec3::Y);
+        assert_eq!(front, Vec3::new(1.0, 2.0, 3.0), "seen from its front, the light shows L_e");
+        assert_eq!(seen(Vec3::new(0.1, -1.0, 0.2), Vec3::Y), Vec3::ZERO, "seen from its back: nothing");
+        assert_eq!(scene.area_lights.len(), 1, "one emitting quad, one area light");
+        let power = vec![std::f32::consts::PI * 4.0 * 2.0];
+        assert_eq!(scene.light_powers, power, "Φ = π · A · L_e, the mean of the channels (2) over area 4");
     }
 }

@@ -221,7 +221,8 @@ mod checkpoint9 {
         let survivors: Vec<Vec3> = (0..n).filter_map(|_| russian_roulette(beta, &mut rng)).collect();
         let rate = survivors.len() as f64 / n as f64;
         assert!((rate - 0.3).abs() < 5.0 * (0.3f64 * 0.7 / n as f64).sqrt(), "survival rate {rate}");
-        assert!(survivors.iter().all(|s| (*s - beta / 0.3).abs().max_element() < 1e-6));
+        let divided = survivors.iter().all(|s| (*s - beta / 0.3).abs().max_element() < 1e-6);
+        assert!(divided, "a survivor's throughput is divided by q = 0.3: expected {}", beta / 0.3);
         // A bright throughput is capped at 0.95: some paths still stop.
         let stopped = (0..1000).filter(|_| russian_roulette(Vec3::splat(2.0), &mut rng).is_none()).count();
         assert!((20..=80).contains(&stopped), "{stopped} of 1000 stopped at q = 0.95");
@@ -296,7 +297,11 @@ mod checkpoint9 {
         let x = Vec3::new(0.3, 0.0, -0.1);
         let from = x + Vec3::new(3.0, 0.2, 0.5);
         let ray = Ray::new(from, (x - from).normalize());
-        assert!(trace_to_diffuse(&world, ray, 0).is_some_and(|d| (d.hit.p - x).length() < 1e-4));
+        let got = trace_to_diffuse(&world, ray, 0).map(|d| d.hit.p);
+        assert!(
+            got.is_some_and(|p| (p - x).length() < 1e-4),
+            "aimed at {x}: expected that point, got {got:?}"
+        );
         let mut rng = Rng::new(908, 0);
         let paths = Summary::of(
             (0..40_000).map(|_| path_tracer(8, ROULETTE_AFTER).li(&world, ray, &mut rng).x as f64),

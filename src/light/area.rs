@@ -124,14 +124,14 @@ mod checkpoint8 {
     #[test]
     fn sampled_points_are_uniform_over_the_lights_area_by_a_chi_square_test() {
         let light = trapezoid();
-        assert_eq!(light.area(), 1.5);
+        assert_eq!(light.area(), 1.5, "the trapezoid's two triangles cover 1.5");
         let (nx, ny, n) = (10, 5, 100_000);
         let mut counts = vec![0u32; nx * ny];
         let mut rng = Rng::new(81, 0);
         for _ in 0..n {
             let s = light.sample([rng.next_f32(), rng.next_f32(), rng.next_f32()]);
-            assert_eq!(s.pdf_area, 1.0 / 1.5);
-            assert_eq!(s.normal, Vec3::Z);
+            assert_eq!(s.pdf_area, 1.0 / 1.5, "uniform over the whole light: pdf_A = 1 / A");
+            assert_eq!(s.normal, Vec3::Z, "the sampled triangle's normal: the light faces +z");
             let (x, y) = (s.point.x as f64, s.point.y as f64);
             assert!(inside(x, y) && s.point.z == 0.0, "{:?} is off the light", s.point);
             let (bx, by) =
@@ -200,6 +200,7 @@ mod tests {
         let triangles = vec![Triangle::new(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0))];
         let mut light = AreaLight::new(0, triangles, Vec3::ONE);
         light.radiance = Vec3::new(1.0, 2.0, 3.0);
-        assert_eq!(light.power(), std::f32::consts::PI * 2.0 * Vec3::new(1.0, 2.0, 3.0));
+        let want = std::f32::consts::PI * 2.0 * Vec3::new(1.0, 2.0, 3.0);
+        assert_eq!(light.power(), want, "a Lambertian emitter of area 2: Φ = π · A · L_e");
     }
 }

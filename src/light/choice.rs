@@ -100,10 +100,11 @@ mod checkpoint8 {
     /// The ends of [0, 1) pick the first and the last light with power; no power, no light.
     #[test]
     fn the_ends_of_the_unit_interval_pick_the_first_and_last_lights() {
-        assert_eq!(choose_light(&[0.0, 2.0, 2.0, 0.0], 0.0).map(|c| c.0), Some(1));
-        assert_eq!(choose_light(&[0.0, 2.0, 2.0, 0.0], 0.999_999_9).map(|c| c.0), Some(2));
-        assert_eq!(choose_light(&[5.0], 0.3), Some((0, 1.0)));
-        assert_eq!(choose_light(&[0.0, 0.0], 0.5), None);
-        assert_eq!(choose_light(&[], 0.5), None);
+        let powers = [0.0, 2.0, 2.0, 0.0];
+        assert_eq!(choose_light(&powers, 0.0).map(|c| c.0), Some(1), "u = 0: the first light with power");
+        assert_eq!(choose_light(&powers, 0.999_999_9).map(|c| c.0), Some(2), "u near 1: the last with power");
+        assert_eq!(choose_light(&[5.0], 0.3), Some((0, 1.0)), "one light: chosen with probability 1");
+        assert_eq!(choose_light(&[0.0, 0.0], 0.5), None, "no power: no light (a probability of 0)");
+        assert_eq!(choose_light(&[], 0.5), None, "no lights: none chosen");
     }
 }

@@ -36,6 +36,6 @@ mod tests {
     #[test]
     fn intensity_is_flux_over_the_full_sphere() {
         let light = PointLight { position: Vec3::ZERO, flux: Vec3::splat(4.0 * std::f32::consts::PI) };
-        assert_eq!(light.intensity(), Vec3::ONE);
+        assert_eq!(light.intensity(), Vec3::ONE, "I = Φ / 4π: a flux of 4π gives 1");
     }
 }

@@ -23,9 +23,17 @@ mod checkpoint1 {
         for path in files {
             let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
             assert!(!scene.triangles.is_empty(), "{}: no triangles", path.display());
-            assert_eq!(scene.triangles.len(), scene.triangle_materials.len());
-            assert!(scene.triangle_materials.iter().all(|&m| (m as usize) < scene.materials.len()));
-            assert!(scene.triangles.iter().all(|t| t.p0.is_finite() && t.p1.is_finite() && t.p2.is_finite()));
+            let shown = path.display();
+            assert_eq!(
+                scene.triangles.len(),
+                scene.triangle_materials.len(),
+                "{shown}: one material per triangle"
+            );
+            let known = scene.triangle_materials.iter().all(|&m| (m as usize) < scene.materials.len());
+            assert!(known, "{shown}: a triangle names a material the scene does not have");
+            let finite =
+                scene.triangles.iter().all(|t| t.p0.is_finite() && t.p1.is_finite() && t.p2.is_finite());
+            assert!(finite, "{shown}: a vertex is not finite");
         }
     }
 
