@@ -200,14 +200,16 @@ fn package_part(bytes: &[u8]) -> String {
     lines[..end].join("\n")
 }
 
-/// A file's bytes with every region body emptied (Rust files only).
+/// A file's bytes with every region body emptied (Rust files only). The bodies of all
+/// checkpoints are cut from the last to the first, so each range still points into the text.
 pub fn blank_regions(bytes: &[u8]) -> Vec<u8> {
     let Ok(text) = std::str::from_utf8(bytes) else { return bytes.to_vec() };
+    let mut ranges: Vec<std::ops::Range<usize>> =
+        REGION_CHECKPOINTS.flat_map(|checkpoint| region_bodies(text, checkpoint)).collect();
+    ranges.sort_by_key(|r| std::cmp::Reverse(r.start));
     let mut out = text.to_string();
-    for checkpoint in REGION_CHECKPOINTS {
-        for range in region_bodies(text, checkpoint).into_iter().rev() {
-            out.replace_range(range, "");
-        }
+    for range in ranges {
+        out.replace_range(range, "");
     }
     out.into_bytes()
 }
@@ -224,5 +226,20 @@ mod tests {
         assert_eq!(blank_regions(text.as_bytes()), blank_regions(other.as_bytes()));
         let outside = text.replace("fn a()", "fn b()");
         assert_ne!(blank_regions(text.as_bytes()), blank_regions(outside.as_bytes()));
+    }
+
+    /// A long region of a lower checkpoint before one of a higher checkpoint, in one file: both
+    /// bodies are cut where they are (cutting the first moved the second's range: a panic).
+    #[test]
+    fn grader_blanks_regions_of_several_checkpoints_in_one_file() {
+        let region = |n: u32, body: &str| {
+            format!(
+                "fn f{n}() {{\n    // BEGIN{} SOLUTION checkpoint{n}\n{body}    // END SOLUTION\n}}\n",
+                ""
+            )
+        };
+        let text = region(2, &"    let x = 1;\n".repeat(50)) + &region(3, "    2\n");
+        let blanked = String::from_utf8(blank_regions(text.as_bytes())).unwrap();
+        assert_eq!(blanked, region(2, "") + &region(3, ""));
     }
 }

@@ -61,11 +61,12 @@ impl Context<'_> {
     }
 
     /// The lowest checkpoint the scene runs that is not started or whose own (public) tests do
-    /// not all pass, if there is one (module docs).
+    /// not all pass, if there is one (module docs). None without tests (`--skip-tests`): nothing
+    /// then shows the graded checkpoints right, so a failed scene costs each of them.
     fn culprit(&self, scene: &GradedScene) -> Option<u32> {
+        let tests = self.tests?;
         let failing = |id: &u32| {
-            self.not_started(*id)
-                || self.tests.is_some_and(|t| t.public.get(id).is_none_or(|t| self.fraction(t, *id) < 1.0))
+            self.not_started(*id) || tests.public.get(id).is_none_or(|t| self.fraction(t, *id) < 1.0)
         };
         scene.depends_on.iter().copied().filter(failing).min()
     }
@@ -597,5 +598,17 @@ mod tests {
         let all_wait = graded(&tests, &[4], Blame::Culprit);
         assert_eq!(all_wait.test_score, five.test_points);
         assert!(all_wait.advice.is_none(), "{:?}", all_wait.advice);
+    }
+
+    /// Images only (`--skip-tests`): nothing shows checkpoint 2 right, so a scene that could not
+    /// run costs it, even with the later checkpoints not written.
+    #[test]
+    fn grader_without_tests_counts_every_failed_scene() {
+        let rubric = rubric();
+        let context = Context { tests: None, stubbed: &[3, 4, 5, 6, 7, 8, 9], blame: Blame::Culprit };
+        let scene = stopped_in_the_stub_of(&rubric, "intersection_test", 4, &context);
+        assert_eq!(scene_status(&scene, &[2], &context), SceneStatus::Failed);
+        let two = score_checkpoint(&rubric.checkpoints[1], std::slice::from_ref(&scene), &context);
+        assert_eq!(two.image_score, 0.0);
     }
 }
