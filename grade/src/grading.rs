@@ -238,6 +238,26 @@ pub struct Needed {
     pub not_started: bool,
 }
 
+impl Needed {
+    /// Its state in words: not written yet, or what its tests say.
+    pub fn state(&self) -> String {
+        match (&self.tests, self.not_started) {
+            (_, true) => "not written yet".to_string(),
+            (Some(t), false) if t.error.is_none() && t.failed == 0 => {
+                format!("tests {}/{} pass", t.passed, t.passed)
+            }
+            (Some(t), false) if t.error.is_none() => format!(
+                "tests {}/{} pass: `cargo test {}` says which fail",
+                t.passed,
+                t.passed + t.failed,
+                self.checkpoint.test_filter
+            ),
+            (Some(_), false) => "its tests could not run".to_string(),
+            (None, false) => "tests not run".to_string(),
+        }
+    }
+}
+
 /// Wall-clock seconds of a grading run's phases.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Phases {

@@ -58,15 +58,8 @@ fn needed_list(h: &mut String, report: &GradeReport) {
     }
     h.push_str("<p>Not graded here, but the scenes below run their code (no points from them):</p><ul>");
     for n in &report.needed {
-        let state = match (&n.tests, n.not_started) {
-            (_, true) => "not written yet".to_string(),
-            (Some(t), false) if t.error.is_none() => {
-                format!("tests {}/{} pass", t.passed, t.passed + t.failed)
-            }
-            _ => "tests did not run".to_string(),
-        };
-        let _ =
-            write!(h, "<li>checkpoint {} ({}): {state}</li>", n.checkpoint.id, escape(&n.checkpoint.title));
+        let (id, title, state) = (n.checkpoint.id, escape(&n.checkpoint.title), escape(&n.state()));
+        let _ = write!(h, "<li>checkpoint {id} ({title}): {state}</li>");
     }
     h.push_str("</ul>\n");
 }

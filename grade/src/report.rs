@@ -92,21 +92,7 @@ fn needed_text(out: &mut String, report: &GradeReport) {
         "\nnot graded here, but the scenes above run their code (no points, exit code unchanged):"
     );
     for n in &report.needed {
-        let state = match (&n.tests, n.not_started) {
-            (_, true) => "not written yet".to_string(),
-            (Some(t), false) if t.error.is_none() && t.failed == 0 => {
-                format!("tests {}/{} pass", t.passed, t.passed)
-            }
-            (Some(t), false) if t.error.is_none() => {
-                let (passed, all) = (t.passed, t.passed + t.failed);
-                format!(
-                    "tests {passed}/{all} pass: `cargo test {}` says which fail",
-                    n.checkpoint.test_filter
-                )
-            }
-            (Some(_), false) => "its tests could not run".to_string(),
-            (None, false) => "tests not run".to_string(),
-        };
+        let state = n.state();
         let _ = writeln!(out, "{:<3} {:<44} {state}", n.checkpoint.id, n.checkpoint.title);
     }
 }
