@@ -4,10 +4,11 @@
 //!
 //! Every child runs in a process group of its own, and the whole group is killed when the child
 //! ends or its wall-clock time is up: nothing it started outlives it. Children that run graded
-//! code ([`Limits::GRADED`]) also get resource limits that hold even for root: address space,
-//! CPU time, and the size of any file they write.
+//! code ([`run_graded`]) also get resource limits that hold even for root (address space, CPU
+//! time, the size of any file they write), a folder of their own, and the sandbox's walls where
+//! the grader set a launcher ([`crate::sandbox`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
@@ -171,6 +172,70 @@ pub fn quote(text: &str) -> String {
     }
 }
 
+/// A graded child's own folder, fresh and empty: its `TMPDIR` and the only place the sandbox lets
+/// it write. Removed when dropped.
+#[derive(Debug)]
+pub struct OwnFolder(PathBuf);
+
+impl OwnFolder {
+    /// A new folder under the system's temporary folder.
+    pub fn new() -> std::io::Result<OwnFolder> {
+        static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("raylab-graded-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir)?;
+        Ok(OwnFolder(dir))
+    }
+
+    /// Where it is.
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for OwnFolder {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The folders of a tree that graded code reads at run time: its scenes and meshes, public and
+/// hidden. Nothing else of the tree (its sources, tests, references) is readable inside the walls.
+pub fn graded_reads(root: &Path) -> Vec<PathBuf> {
+    ["scenes", "hidden/scenes"].iter().map(|d| root.join(d)).collect()
+}
+
+/// Runs graded code: `command` for at most `limit`, under [`Limits::GRADED`], with `own` as its
+/// folder, and inside the sandbox's walls (reading only `read` beyond its program and the system)
+/// when a launcher is set.
+pub fn run_graded(
+    mut command: Command,
+    limit: Duration,
+    read: &[PathBuf],
+    own: &OwnFolder,
+) -> std::io::Result<ChildRun> {
+    let limits = Limits::GRADED.expect("graded code has limits");
+    command.env("TMPDIR", own.path());
+    let Some(launcher) = crate::sandbox::launcher_path() else { return run_limited(command, limit, Some(limits)) };
+    let walls = crate::sandbox::Walls {
+        read: read.to_vec(),
+        write: own.path().to_path_buf(),
+        limits,
+        cpu_seconds: cpu_seconds(limit),
+    };
+    let mut run = run_limited(crate::sandbox::wrap(launcher, &command, &walls, &[]), limit, None)?;
+    run.limits = Some(limits);
+    Ok(run)
+}
+
+/// CPU seconds for a child with wall-clock `limit`: the limit on every core, so a busy correct
+/// render never meets it before the wall clock does; it stops a spinning child the wall clock
+/// has not reached yet.
+fn cpu_seconds(limit: Duration) -> u64 {
+    limit.as_secs().max(1) * std::thread::available_parallelism().map_or(2, |n| n.get() as u64)
+}
+
 /// Runs `command` for at most `limit` (wall clock) under `limits`, then kills its process group.
 /// Callers mark grader children with [`CHILD_ENV`]. Output goes through temporary files, so a
 /// child printing a lot never blocks on a full pipe; each stream is read back up to 1 MiB.
@@ -232,9 +297,7 @@ fn isolate(command: &mut Command, limit: Duration, limits: Option<Limits>) {
     use std::os::unix::process::CommandExt;
     command.process_group(0);
     let Some(limits) = limits else { return };
-    // CPU seconds: the wall-clock limit on every core, so a busy correct render never meets it
-    // before the wall clock does; it stops a spinning child the wall clock has not reached yet.
-    let cpu = limit.as_secs().max(1) * std::thread::available_parallelism().map_or(2, |n| n.get() as u64);
+    let cpu = cpu_seconds(limit);
     let set = move || {
         let pairs = [
             (libc::RLIMIT_AS, limits.memory),

@@ -14,7 +14,7 @@ use image::RgbImage;
 use indicatif::ProgressBar;
 
 use crate::cargo::{build_renderer, BUILD_TIME_LIMIT};
-use crate::child::{run_limited, Limits, CHILD_ENV};
+use crate::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
 use crate::features::Masks;
 use crate::images::read_png;
 use crate::metrics::{Comparison, Measured};
@@ -497,11 +497,11 @@ impl Child<'_> {
     /// Renders `scene` at its graded spp with `seed` in a child process: the PNG it writes, and
     /// the linear film if `pfm`; with the seconds it took.
     fn render(&self, scene: &GradedScene, seed: u64, pfm: bool) -> Result<(Rendered, f64), String> {
-        let stem = std::env::temp_dir().join(format!("raylab-grader-{}-{}", std::process::id(), scene.name));
-        let (png, film) = (stem.with_extension("png"), stem.with_extension("pfm"));
+        let own = OwnFolder::new().map_err(|e| format!("cannot make a folder for the render: {e}"))?;
+        let (png, film) = (own.path().join("render.png"), own.path().join("render.pfm"));
         let mut command = Command::new(self.renderer);
         command
-            .current_dir(std::env::temp_dir())
+            .current_dir(own.path())
             .env(CHILD_ENV, "1")
             .envs(self.options.env.iter().map(|(k, v)| (k, v)))
             .arg(self.code.join(&scene.file))
@@ -519,7 +519,7 @@ impl Child<'_> {
                 command.arg("--accel").arg("wide");
             }
         }
-        let run = run_limited(command, self.limit, Limits::GRADED)
+        let run = run_graded(command, self.limit, &graded_reads(&self.code), &own)
             .map_err(|e| format!("cannot start {}: {e}", self.renderer.display()))?;
         let rendered = if !run.success() {
             // A hidden scene is reported by its fixed category only, never with its output.
@@ -535,8 +535,6 @@ impl Child<'_> {
             let linear = if pfm { read_pfm(&film).map(Some).map_err(|e| e.to_string()) } else { Ok(None) };
             image.and_then(|image| Ok(Rendered { image, film: linear? }))
         };
-        let _ = std::fs::remove_file(&png);
-        let _ = std::fs::remove_file(&film);
         Ok((rendered?, run.seconds))
     }
 }

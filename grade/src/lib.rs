@@ -28,6 +28,7 @@ pub mod reference;
 pub mod render_references;
 pub mod report;
 pub mod rubric;
+pub mod sandbox;
 pub mod splice;
 pub mod ssim;
 pub mod stub;

@@ -11,7 +11,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use crate::cargo::{cargo, executables, first_error};
-use crate::child::{quote, run_limited, run_with_limit, Limits, CHILD_ENV};
+use crate::child::{graded_reads, quote, run_graded, run_with_limit, OwnFolder, CHILD_ENV};
 use crate::stub::stub_panic;
 
 /// What one `cargo test <filter>` run found.
@@ -103,7 +103,8 @@ pub fn build_tests(root: &Path, target: Option<&Path>, limit: Duration) -> Resul
 fn list_tests(root: &Path, executable: &Path) -> Result<Vec<String>, String> {
     let mut command = Command::new(executable);
     command.current_dir(root).env(CHILD_ENV, "1").args(["--list", "--format", "terse"]);
-    let run = run_limited(command, TEST_TIME_LIMIT, Limits::GRADED).map_err(|e| e.to_string())?;
+    let own = OwnFolder::new().map_err(|e| e.to_string())?;
+    let run = run_graded(command, TEST_TIME_LIMIT, &graded_reads(root), &own).map_err(|e| e.to_string())?;
     if !run.success() {
         return Err(format!(
             "cannot list the tests of {}: {}",
@@ -154,7 +155,14 @@ impl TestBinaries {
             command.current_dir(root).env(CHILD_ENV, "1").envs(env.iter().map(|(k, v)| (k, v)));
             command.args(["--exact", name, "--test-threads", "1"]);
             let this_limit = left.min(TEST_TIME_LIMIT);
-            match run_limited(command, this_limit, Limits::GRADED) {
+            let own = match OwnFolder::new() {
+                Ok(own) => own,
+                Err(e) => {
+                    result.error = Some(format!("cannot make a folder for a test: {e}"));
+                    return result;
+                }
+            };
+            match run_graded(command, this_limit, &graded_reads(root), &own) {
                 Ok(run) if run.success() => result.passed += 1,
                 Ok(run) => {
                     timed_out = run.status.is_none();

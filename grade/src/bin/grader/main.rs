@@ -23,7 +23,7 @@ use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};
 use raylab_grade::ssim::SsimMap;
 use raylab_grade::watch::Stage;
-use raylab_grade::{heatmap::heatmap, html, report};
+use raylab_grade::{heatmap::heatmap, html, report, sandbox};
 
 /// Grade raylab's checkpoints: unit tests and renders scored against reference images.
 #[derive(Parser)]
@@ -92,6 +92,9 @@ enum Commands {
         /// Write Gradescope's results.json here.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
+        /// Grade even where this machine cannot wall graded code in (see `grader sandbox`).
+        #[arg(long)]
+        no_sandbox: bool,
     },
     /// Re-run the current checkpoint's tests and scenes on every save, moving on when it passes.
     Watch {
@@ -114,6 +117,16 @@ enum Commands {
         /// Where to write the reports.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
+        /// Grade even where this machine cannot wall graded code in (see `grader sandbox`).
+        #[arg(long)]
+        no_sandbox: bool,
+    },
+    /// The walls this machine puts around graded code, each measured by a probe that tries what
+    /// it forbids; exits 1 when one is missing.
+    Sandbox {
+        /// Measure the walls (the only thing this command does).
+        #[arg(long)]
+        check: bool,
     },
     /// The instructor's commands (left out of the student starter's grader).
     #[cfg(feature = "instructor")]
@@ -122,13 +135,28 @@ enum Commands {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    // The grader's executable is also the sandbox's launcher and its probe: both start here, in
+    // a process with one thread, before anything else runs.
+    #[cfg(target_os = "linux")]
+    match args.get(1).and_then(|a| a.to_str()) {
+        Some(sandbox::LAUNCH) => return sandbox::launcher::launch(&args[2..]),
+        Some(sandbox::probe::PROBE) => return ExitCode::from(sandbox::probe::run(&args[2..]) as u8),
+        _ => {}
+    }
+    if let Ok(me) = std::env::current_exe() {
+        sandbox::set_launcher(me);
+    }
+    let cli = Cli::parse_from(args);
     let result = match cli.command {
         Some(Commands::Compare { a, b, json, heatmap }) => compare(&a, &b, json, heatmap.as_deref()),
-        Some(Commands::Submission { dir, root, work, json }) => {
-            submission(&root, &dir, work, json.as_deref())
+        Some(Commands::Submission { dir, root, work, json, no_sandbox }) => {
+            walled(&root, no_sandbox).and_then(|()| submission(&root, &dir, work, json.as_deref()))
         }
-        Some(Commands::Batch { dirs, root, out }) => batch(&root, &dirs, &out),
+        Some(Commands::Batch { dirs, root, out, no_sandbox }) => {
+            walled(&root, no_sandbox).and_then(|()| batch(&root, &dirs, &out))
+        }
+        Some(Commands::Sandbox { .. }) => Ok(sandbox_check()),
         Some(Commands::Watch { from, root }) => watch(&root, from),
         #[cfg(feature = "instructor")]
         Some(Commands::Instructor(command)) => instructor::run(command),
@@ -140,6 +168,45 @@ fn main() -> ExitCode {
             eprintln!("grader: {message}");
             ExitCode::from(2)
         }
+    }
+}
+
+/// `grader sandbox --check`: one line per wall; exit 1 if one is missing.
+fn sandbox_check() -> ExitCode {
+    let lines = sandbox::check();
+    for (line, _) in &lines {
+        println!("{line}");
+    }
+    let missing = lines.iter().filter(|(_, holds)| !holds).count();
+    match missing {
+        0 => {
+            println!("grader: every wall holds: graded code may run here");
+            ExitCode::SUCCESS
+        }
+        n => {
+            println!("grader: {n} wall(s) missing: grade submissions here only with --no-sandbox");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Grading someone else's code from the instructor's tree (`root` has no starter manifest) needs
+/// every wall, unless `--no-sandbox`: the walls are measured first, and a missing one stops the
+/// command. A student grading their own tree is never refused.
+fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
+    if no_sandbox || root.join(raylab_grade::baseline::STARTER_MANIFEST).is_file() {
+        if no_sandbox {
+            eprintln!("grader: --no-sandbox: graded code runs without the sandbox's walls");
+        }
+        return Ok(());
+    }
+    let missing: Vec<String> = sandbox::check().into_iter().filter(|(_, holds)| !holds).map(|(l, _)| l).collect();
+    match missing.is_empty() {
+        true => Ok(()),
+        false => Err(format!(
+            "this machine cannot wall graded code in ({}); see `grader sandbox --check`, or grade anyway with --no-sandbox",
+            missing.join("; ")
+        )),
     }
 }
 

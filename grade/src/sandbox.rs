@@ -1,0 +1,240 @@
+//! The walls around graded code: what a render or a unit test of a submission may do while it
+//! runs.
+//!
+//! The grader never restricts itself. It starts every graded process through a launcher, its
+//! own executable started again as `grader __sandbox ...` ([`launcher`]): a fresh process with
+//! one thread, which raises the walls around itself and then becomes the graded program by
+//! `execveat` on a descriptor it opened. The walls hold across that exec and for every thread the
+//! graded program starts:
+//!
+//! - **processes** (seccomp, [`filter`]): no `execve`, no `fork`/`vfork`, `clone` only for threads,
+//!   `clone3` reported as missing (so the C library falls back to `clone`), no `setsid`/`setpgid`,
+//!   no signals but to itself, no `ptrace`, no raising a limit, no io_uring, no namespaces. The
+//!   launcher's own exec passes because it names a descriptor number the graded program cannot
+//!   open: the file-descriptor limit is set just below it.
+//! - **network** (seccomp): `socket` and `socketpair` for `AF_UNIX` only.
+//! - **files** (Landlock, [`files`]): read the system's libraries, the program, and the folders
+//!   the caller names; write only the child's own folder. Landlock also scopes signals and
+//!   abstract sockets to the sandbox where the kernel has it (ABI 6).
+//! - **resources** (rlimits, [`crate::child::Limits`]): address space, CPU time, file size,
+//!   no core dumps.
+//! - **lifetime**: the launcher asks to be killed when the grader's thread that started it ends
+//!   (`PR_SET_PDEATHSIG`), so a killed grader leaves nothing running; a graded process cannot
+//!   start another process, so nothing outlives it.
+//!
+//! Why this makes the per-checkpoint switch unreachable ([`crate::splice`]): the switch is read
+//! in the graded process; running the solution instead needs a second process started without it,
+//! and no graded process can start one.
+//!
+//! Outside Linux, and when no launcher is set (the library's own tests), graded processes run
+//! with the resource limits only; [`check`] says which walls this machine gives.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+use crate::child::Limits;
+
+#[cfg(target_os = "linux")]
+pub mod files;
+#[cfg(target_os = "linux")]
+pub mod filter;
+#[cfg(target_os = "linux")]
+pub mod launcher;
+#[cfg(target_os = "linux")]
+pub mod probe;
+
+/// The first argument that makes the grader's executable the launcher.
+pub const LAUNCH: &str = "__sandbox";
+
+/// What one graded process may read and write, and its limits.
+#[derive(Clone, Debug)]
+pub struct Walls {
+    /// Folders and files it may read (and execute), besides the system's libraries and its
+    /// own program.
+    pub read: Vec<PathBuf>,
+    /// Its own folder, the only place it may write (also its `TMPDIR`).
+    pub write: PathBuf,
+    /// Its resource limits.
+    pub limits: Limits,
+    /// CPU seconds, over all its threads.
+    pub cpu_seconds: u64,
+}
+
+/// One wall, as the launcher's `--without` names it (test builds only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wall {
+    /// The seccomp filter: processes, exec, network, signals.
+    Seccomp,
+    /// Landlock: files.
+    Landlock,
+    /// The resource limits.
+    Limits,
+}
+
+impl Wall {
+    /// Every wall.
+    pub const ALL: [Wall; 3] = [Wall::Seccomp, Wall::Landlock, Wall::Limits];
+
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Wall::Seccomp => "seccomp",
+            Wall::Landlock => "landlock",
+            Wall::Limits => "limits",
+        }
+    }
+}
+
+/// The launcher: the grader's executable, set once by the `grader` binary.
+static LAUNCHER: OnceLock<PathBuf> = OnceLock::new();
+
+/// Makes `executable` (the running `grader`) the launcher of every graded process.
+pub fn set_launcher(executable: PathBuf) {
+    let _ = LAUNCHER.set(executable);
+}
+
+/// The launcher, if one is set and this platform has walls.
+pub fn launcher_path() -> Option<&'static Path> {
+    if cfg!(target_os = "linux") {
+        LAUNCHER.get().map(PathBuf::as_path)
+    } else {
+        None
+    }
+}
+
+/// `command` started through `launcher` inside `walls`, leaving out the walls in `without`
+/// (accepted by test builds of the launcher only): the same program, arguments, environment and
+/// working folder, with `TMPDIR` set to the child's own folder.
+pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall]) -> Command {
+    let mut wrapped = Command::new(launcher);
+    wrapped.arg(LAUNCH);
+    for path in &walls.read {
+        wrapped.arg("--read").arg(path);
+    }
+    wrapped.arg("--write").arg(&walls.write);
+    let numbers = [
+        ("--memory", walls.limits.memory),
+        ("--file-size", walls.limits.file_size),
+        ("--cpu", walls.cpu_seconds),
+    ];
+    for (flag, value) in numbers {
+        wrapped.arg(flag).arg(value.to_string());
+    }
+    wrapped.arg("--parent").arg(std::process::id().to_string());
+    for wall in without {
+        wrapped.arg("--without").arg(wall.name());
+    }
+    wrapped.arg("--").arg(command.get_program()).args(command.get_args());
+    for (key, value) in command.get_envs() {
+        match value {
+            Some(value) => wrapped.env(key, value),
+            None => wrapped.env_remove(key),
+        };
+    }
+    if let Some(dir) = command.get_current_dir() {
+        wrapped.current_dir(dir);
+    }
+    wrapped.env("TMPDIR", &walls.write);
+    wrapped
+}
+
+/// What the launcher was asked to do, parsed from its arguments.
+#[derive(Clone, Debug)]
+pub struct Launch {
+    /// The walls.
+    pub walls: Walls,
+    /// The grader's process id: the launcher stops if it is no longer its parent.
+    pub parent: u32,
+    /// Walls left out (test builds only).
+    pub without: Vec<Wall>,
+    /// The program and its arguments.
+    pub program: Vec<OsString>,
+}
+
+/// Parses the launcher's arguments (those after [`LAUNCH`]).
+pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
+    let mut walls =
+        Walls { read: Vec::new(), write: PathBuf::new(), limits: Limits { memory: 0, file_size: 0 }, cpu_seconds: 0 };
+    let (mut parent, mut without) = (0, Vec::new());
+    let mut args = args.iter();
+    let number = |value: Option<&OsString>| -> Result<u64, String> {
+        value.and_then(|v| v.to_str()).and_then(|v| v.parse().ok()).ok_or("a number is missing".to_string())
+    };
+    while let Some(arg) = args.next() {
+        match arg.to_str().unwrap_or("") {
+            "--read" => walls.read.push(args.next().ok_or("--read needs a path")?.into()),
+            "--write" => walls.write = args.next().ok_or("--write needs a path")?.into(),
+            "--memory" => walls.limits.memory = number(args.next())?,
+            "--file-size" => walls.limits.file_size = number(args.next())?,
+            "--cpu" => walls.cpu_seconds = number(args.next())?,
+            "--parent" => parent = number(args.next())? as u32,
+            "--without" => {
+                let name = args.next().and_then(|v| v.to_str()).unwrap_or("");
+                let wall = Wall::ALL.into_iter().find(|w| w.name() == name);
+                without.push(wall.ok_or_else(|| format!("no wall is called {name:?}"))?);
+            }
+            "--" => break,
+            other => return Err(format!("unknown launcher argument {other:?}")),
+        }
+    }
+    if !without.is_empty() && !cfg!(debug_assertions) {
+        return Err("--without is accepted by test builds only".to_string());
+    }
+    let program: Vec<OsString> = args.cloned().collect();
+    if program.is_empty() || walls.write.as_os_str().is_empty() {
+        return Err("the launcher needs --write DIR and a program after --".to_string());
+    }
+    Ok(Launch { walls, parent, without, program })
+}
+
+/// The walls this machine gives a graded process, each measured by starting a probe through the
+/// launcher and trying what the wall forbids ([`probe`]): a line each, and whether it holds.
+pub fn check() -> Vec<(String, bool)> {
+    #[cfg(target_os = "linux")]
+    if let Some(launcher) = launcher_path() {
+        return probe::measure(launcher);
+    }
+    vec![("no walls on this platform: graded code runs with resource limits only".to_string(), false)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The launcher reads back exactly what `wrap` wrote.
+    #[test]
+    fn the_launchers_arguments_round_trip() {
+        let walls = Walls {
+            read: vec![PathBuf::from("/scenes"), PathBuf::from("/bin/x")],
+            write: PathBuf::from("/tmp/own"),
+            limits: Limits { memory: 4 << 30, file_size: 64 << 20 },
+            cpu_seconds: 40,
+        };
+        let mut command = Command::new("/bin/render");
+        command.args(["scene.toml", "--spp", "4"]).env("A", "1").current_dir("/work");
+        let wrapped = wrap(Path::new("/grader"), &command, &walls, &[]);
+        let args: Vec<OsString> = wrapped.get_args().map(OsString::from).collect();
+        assert_eq!(args[0], LAUNCH);
+        let launch = parse_launch(&args[1..]).unwrap();
+        assert_eq!(launch.walls.read, walls.read);
+        assert_eq!(launch.walls.write, walls.write);
+        assert_eq!(launch.walls.limits, walls.limits);
+        assert_eq!(launch.walls.cpu_seconds, 40);
+        assert_eq!(launch.parent, std::process::id());
+        assert_eq!(launch.program, ["/bin/render", "scene.toml", "--spp", "4"].map(OsString::from));
+        assert_eq!(wrapped.get_current_dir(), Some(Path::new("/work")));
+        let envs: Vec<_> = wrapped.get_envs().collect();
+        assert!(envs.contains(&(std::ffi::OsStr::new("TMPDIR"), Some(std::ffi::OsStr::new("/tmp/own")))));
+        assert!(envs.contains(&(std::ffi::OsStr::new("A"), Some(std::ffi::OsStr::new("1")))));
+    }
+
+    #[test]
+    fn the_launcher_refuses_what_it_does_not_know() {
+        let args = |a: &[&str]| a.iter().map(OsString::from).collect::<Vec<_>>();
+        assert!(parse_launch(&args(&["--write", "/o", "--bogus", "--", "x"])).is_err());
+        assert!(parse_launch(&args(&["--write", "/o", "--"])).is_err());
+        assert!(parse_launch(&args(&["--without", "doors", "--write", "/o", "--", "x"])).is_err());
+    }
+}

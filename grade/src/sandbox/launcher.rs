@@ -1,0 +1,122 @@
+//! The launcher: a fresh single-threaded process that raises the walls around itself, in this
+//! order, and then becomes the graded program.
+//!
+//! 1. Die with the grader: `PR_SET_PDEATHSIG` (SIGKILL), then stop if the parent is already gone.
+//! 2. Open the program and move its descriptor to number `n`, close-on-exec; set the descriptor
+//!    limit to `n`, so no descriptor numbered `n` or above can be made again (`dup2`, `fcntl` and
+//!    `open` all respect it). After the exec, `n` is closed and cannot be reopened.
+//! 3. Resource limits (`RLIMIT_AS`, `RLIMIT_FSIZE`, `RLIMIT_CPU`, `RLIMIT_CORE` = 0).
+//! 4. Landlock ([`super::files`]).
+//! 5. The seccomp filter ([`super::filter`]), which lets `execveat` through for descriptor `n`
+//!    only, and refuses every limit change from here on.
+//! 6. `execveat(n, "", argv, envp, AT_EMPTY_PATH)`.
+//!
+//! Any failure is printed on one line (`sandbox: ...`) and exits with status 125, before the
+//! graded program ever runs: a wall that cannot be raised is never silently left out.
+
+use std::ffi::{CString, OsString};
+use std::os::unix::ffi::OsStrExt;
+
+use super::{files, filter, parse_launch, Launch, Wall};
+
+/// Exit status of a launcher that could not raise its walls.
+pub const FAILED: u8 = 125;
+
+/// The highest descriptor number the launcher uses for the program (lower if the system's hard
+/// limit is lower).
+const PROGRAM_FD: libc::c_int = 1000;
+
+/// Runs the launcher with `args` (those after `__sandbox`); returns only on failure.
+pub fn launch(args: &[OsString]) -> std::process::ExitCode {
+    let result = parse_launch(args).and_then(|launch| exec_inside(&launch));
+    let message = result.err().unwrap_or_else(|| "the program did not start".to_string());
+    eprintln!("sandbox: {message}");
+    std::process::ExitCode::from(FAILED)
+}
+
+fn exec_inside(launch: &Launch) -> Result<(), String> {
+    let os = |what: &str| format!("{what}: {}", std::io::Error::last_os_error());
+    // SAFETY: prctl with PR_SET_PDEATHSIG takes a signal number and changes nothing else.
+    if unsafe { libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0) } != 0 {
+        return Err(os("cannot ask to die with the grader"));
+    }
+    // SAFETY: getppid has no arguments and cannot fail.
+    if launch.parent != 0 && unsafe { libc::getppid() } as u32 != launch.parent {
+        return Err("the grader is gone".to_string());
+    }
+    let program = CString::new(launch.program[0].as_bytes()).map_err(|_| "a NUL in the program's name")?;
+    let fd = program_descriptor(&program)?;
+    let on = |wall: Wall| !launch.without.contains(&wall);
+    if on(Wall::Limits) {
+        set_limits(launch)?;
+    }
+    if on(Wall::Landlock) {
+        files::restrict(&launch.walls, &launch.program[0])?;
+    }
+    if on(Wall::Seccomp) {
+        filter::install(fd)?;
+    }
+    let argv = c_strings(launch.program.iter().map(|a| a.as_bytes().to_vec()))?;
+    let envp = c_strings(std::env::vars_os().map(|(k, v)| [k.as_bytes(), b"=", v.as_bytes()].concat()))?;
+    let pointers = |strings: &[CString]| {
+        strings.iter().map(|s| s.as_ptr()).chain(std::iter::once(std::ptr::null())).collect::<Vec<_>>()
+    };
+    let (argv, envp) = (pointers(&argv), pointers(&envp));
+    // SAFETY: every pointer is a NUL-terminated string that lives until the call, and both
+    // arrays end with a null pointer; on success this call does not return.
+    unsafe {
+        libc::syscall(libc::SYS_execveat, fd, c"".as_ptr(), argv.as_ptr(), envp.as_ptr(), libc::AT_EMPTY_PATH);
+    }
+    Err(os(&format!("cannot start {}", launch.program[0].to_string_lossy())))
+}
+
+/// Opens `program` and moves it to the descriptor just below the new descriptor limit.
+fn program_descriptor(program: &CString) -> Result<libc::c_int, String> {
+    let os = |what: &str| format!("{what}: {}", std::io::Error::last_os_error());
+    let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+    // SAFETY: getrlimit writes into the struct it is given.
+    if unsafe { libc::getrlimit(libc::RLIMIT_NOFILE, &mut limit) } != 0 {
+        return Err(os("cannot read the descriptor limit"));
+    }
+    let n = PROGRAM_FD.min(limit.rlim_max.saturating_sub(1).min(libc::c_int::MAX as u64) as libc::c_int);
+    // SAFETY: open reads a NUL-terminated path; dup3 and close take descriptor numbers.
+    unsafe {
+        let opened = libc::open(program.as_ptr(), libc::O_RDONLY | libc::O_CLOEXEC);
+        if opened < 0 {
+            return Err(os(&format!("cannot open {}", program.to_string_lossy())));
+        }
+        if libc::dup3(opened, n, libc::O_CLOEXEC) != n {
+            return Err(os("cannot move the program's descriptor"));
+        }
+        libc::close(opened);
+    }
+    let below = libc::rlimit { rlim_cur: n as libc::rlim_t, rlim_max: n as libc::rlim_t };
+    // SAFETY: setrlimit only reads the struct it is given.
+    if unsafe { libc::setrlimit(libc::RLIMIT_NOFILE, &below) } != 0 {
+        return Err(os("cannot lower the descriptor limit"));
+    }
+    Ok(n)
+}
+
+/// The resource limits of [`super::Walls`], each both soft and hard.
+fn set_limits(launch: &Launch) -> Result<(), String> {
+    let walls = &launch.walls;
+    let pairs = [
+        (libc::RLIMIT_AS, walls.limits.memory),
+        (libc::RLIMIT_FSIZE, walls.limits.file_size),
+        (libc::RLIMIT_CPU, walls.cpu_seconds),
+        (libc::RLIMIT_CORE, 0),
+    ];
+    for (resource, value) in pairs {
+        let rlimit = libc::rlimit { rlim_cur: value as libc::rlim_t, rlim_max: value as libc::rlim_t };
+        // SAFETY: setrlimit only reads the struct it is given.
+        if unsafe { libc::setrlimit(resource, &rlimit) } != 0 {
+            return Err(format!("cannot set a resource limit: {}", std::io::Error::last_os_error()));
+        }
+    }
+    Ok(())
+}
+
+fn c_strings(items: impl Iterator<Item = Vec<u8>>) -> Result<Vec<CString>, String> {
+    items.map(|bytes| CString::new(bytes).map_err(|_| "a NUL in an argument or variable".to_string())).collect()
+}

@@ -1,0 +1,62 @@
+//! Each wall of the sandbox on its own (`grade/src/sandbox.rs`): a probe started through the
+//! grader's launcher tries what the wall forbids. With every wall up it is refused; with only the
+//! walls that forbid it left out (a switch test builds of the launcher alone accept) it succeeds,
+//! so the refusal is that wall's doing and the probe really tries.
+#![cfg(target_os = "linux")]
+
+use std::path::{Path, PathBuf};
+
+use raylab_grade::sandbox::probe::{allowed, Attempt};
+use raylab_grade::sandbox::Wall;
+
+fn launcher() -> &'static Path {
+    Path::new(env!("CARGO_BIN_EXE_grader"))
+}
+
+/// A file outside every wall, and a path beside it to write.
+fn outside() -> (PathBuf, PathBuf) {
+    let dir = std::env::temp_dir().join(format!("raylab-walls-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let secret = dir.join("hidden-reference.png");
+    std::fs::write(&secret, "secret").unwrap();
+    (secret, dir.join("written.txt"))
+}
+
+/// The argument each attempt needs.
+fn argument(attempt: Attempt, tcp: &str) -> String {
+    let (secret, written) = outside();
+    match attempt {
+        Attempt::Tcp | Attempt::Udp => tcp.to_string(),
+        Attempt::Signal | Attempt::Ptrace | Attempt::Setpgid => std::process::id().to_string(),
+        Attempt::Read => secret.display().to_string(),
+        Attempt::Write => written.display().to_string(),
+        Attempt::Allocate => (8u64 << 30).to_string(),
+        _ => String::new(),
+    }
+}
+
+#[test]
+fn every_wall_refuses_what_it_is_for_and_only_it() {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let tcp = listener.local_addr().unwrap().to_string();
+    let mut wrong = Vec::new();
+    for attempt in Attempt::ALL {
+        let arg = argument(attempt, &tcp);
+        let walled = allowed(launcher(), attempt, &arg, &[]).unwrap();
+        let open = allowed(launcher(), attempt, &arg, attempt.walls()).unwrap();
+        let expected = (attempt.walls().is_empty(), true);
+        if (walled, open) != expected {
+            wrong.push(format!("{}: walled {walled}, without {:?} {open}", attempt.name(), attempt.walls()));
+        }
+        // Each wall alone that is meant for it refuses it too.
+        for &wall in attempt.walls() {
+            let others: Vec<Wall> = attempt.walls().iter().copied().filter(|&w| w != wall).collect();
+            if allowed(launcher(), attempt, &arg, &others).unwrap() {
+                wrong.push(format!("{}: {wall:?} alone does not refuse it", attempt.name()));
+            }
+        }
+    }
+    let (_, written) = outside();
+    let _ = std::fs::remove_dir_all(written.parent().unwrap());
+    assert!(wrong.is_empty(), "{wrong:#?}");
+}
