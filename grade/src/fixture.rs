@@ -99,6 +99,22 @@ pub struct Expected {
     pub points: BTreeMap<u32, f64>,
 }
 
+/// Written in a fixture's region body, replaced by [`unchecked_token`]: a test build of the grader
+/// takes that region without the allow list ([`crate::splice::UNCHECKED_ENV`]), to show what the
+/// sandbox stops when the checker has a hole.
+pub const UNCHECKED: &str = "{UNCHECKED}";
+
+/// This process's unchecked token: fresh in every run, so no submission can hold it in advance.
+pub fn unchecked_token() -> String {
+    static TOKEN: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TOKEN
+        .get_or_init(|| {
+            let clock = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
+            format!("unchecked-{:x}-{:x}", std::process::id(), clock.as_nanos())
+        })
+        .clone()
+}
+
 /// The fixtures' names, sorted.
 pub fn names(root: &Path) -> Result<Vec<String>, String> {
     let dir = root.join(HOSTILE);
@@ -166,7 +182,7 @@ fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), String> {
             .find(|r| region_function(&text, r.start) == edit.function)
             .ok_or_else(|| format!("no region of {} in {}", edit.function, edit.file.display()))?;
         let mut out = text.clone();
-        out.replace_range(range, edit.body.trim_start_matches('\n'));
+        out.replace_range(range, &edit.body.trim_start_matches('\n').replace(UNCHECKED, &unchecked_token()));
         std::fs::write(&path, out).map_err(|e| io(&path, e))?;
     }
     for edit in &fixture.write {

@@ -105,8 +105,9 @@ pub fn launcher_path() -> Option<&'static Path> {
 }
 
 /// `command` started through `launcher` inside `walls`, leaving out the walls in `without`
-/// (accepted by test builds of the launcher only): the same program, arguments, environment and
-/// working folder, with `TMPDIR` set to the child's own folder.
+/// (accepted by test builds of the launcher only): the same program, arguments and working
+/// folder, the variables set on `command` and `PATH` (nothing else of the grader's environment),
+/// and `TMPDIR` set to the child's own folder.
 pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall]) -> Command {
     let mut wrapped = Command::new(launcher);
     wrapped.arg(LAUNCH);
@@ -127,6 +128,12 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
         wrapped.arg("--without").arg(wall.name());
     }
     wrapped.arg("--").arg(command.get_program()).args(command.get_args());
+    // Nothing of the grader's environment but PATH: the machine's variables (tokens, the test
+    // run's settings) are none of the graded code's business.
+    wrapped.env_clear();
+    if let Some(path) = std::env::var_os("PATH") {
+        wrapped.env("PATH", path);
+    }
     for (key, value) in command.get_envs() {
         match value {
             Some(value) => wrapped.env(key, value),
@@ -228,6 +235,7 @@ mod tests {
         let envs: Vec<_> = wrapped.get_envs().collect();
         assert!(envs.contains(&(std::ffi::OsStr::new("TMPDIR"), Some(std::ffi::OsStr::new("/tmp/own")))));
         assert!(envs.contains(&(std::ffi::OsStr::new("A"), Some(std::ffi::OsStr::new("1")))));
+        assert!(envs.iter().all(|(k, _)| ["TMPDIR", "A", "PATH"].contains(&k.to_str().unwrap())), "{envs:?}");
     }
 
     #[test]

@@ -37,6 +37,16 @@ const LIB: &str = "src/lib.rs";
 /// The environment variable naming the checkpoints whose regions run the submission's code.
 pub const STUDENT_ENV: &str = "RAYLAB_GRADED_STUDENT";
 
+/// Test builds of the grader only: a region holding the token this variable names is taken
+/// without the allow list, so the hostile suite can show what the sandbox stops when the checker
+/// has a hole ([`crate::fixture::UNCHECKED`]). Release builds have no such door.
+pub const UNCHECKED_ENV: &str = "RAYLAB_UNCHECKED_TOKEN";
+
+/// Whether `body` is taken without the allow list (see [`UNCHECKED_ENV`]).
+fn unchecked(body: &str) -> bool {
+    cfg!(debug_assertions) && std::env::var(UNCHECKED_ENV).is_ok_and(|t| t.len() >= 16 && body.contains(&t))
+}
+
 /// Checkpoints that can have solution regions.
 pub const REGION_CHECKPOINTS: std::ops::RangeInclusive<u32> = 1..=9;
 
@@ -217,6 +227,9 @@ fn take(region: &Region, text: &str, found: &[Found]) -> Taken {
         return Taken::NotStarted;
     }
     let body = &text[f.body.clone()];
+    if unchecked(body) {
+        return Taken::Code(body.to_string());
+    }
     match check_region(body, region.checkpoint) {
         Ok(()) => Taken::Code(body.to_string()),
         Err(rejection) => {

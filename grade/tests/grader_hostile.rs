@@ -16,7 +16,7 @@ use std::process::Command;
 
 use raylab_grade::fixture;
 use raylab_grade::reference::inputs_hash;
-use raylab_grade::splice::HIDDEN_DIRS;
+use raylab_grade::splice::{HIDDEN_DIRS, UNCHECKED_ENV};
 use raylab_grade::stub::{region_bodies, rust_files};
 use raylab_grade::variants::{copy_tree, NOT_COPIED};
 
@@ -240,6 +240,7 @@ fn grader_holds_against_every_hostile_submission_in_one_class() {
         .arg("--out")
         .arg(&out)
         .env("CARGO_TARGET_DIR", target_dir())
+        .env(UNCHECKED_ENV, fixture::unchecked_token())
         .env_remove("RAYLAB_GRADER_CHILD")
         .output()
         .unwrap();
