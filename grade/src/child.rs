@@ -217,14 +217,20 @@ pub fn run_graded(
 ) -> std::io::Result<ChildRun> {
     let limits = Limits::GRADED.expect("graded code has limits");
     command.env("TMPDIR", own.path());
-    let Some(launcher) = crate::sandbox::launcher_path() else { return run_limited(command, limit, Some(limits)) };
+    let Some(launcher) = crate::sandbox::launcher_path() else {
+        return run_limited(command, limit, Some(limits));
+    };
     let walls = crate::sandbox::Walls {
         read: read.to_vec(),
         write: own.path().to_path_buf(),
         limits,
         cpu_seconds: cpu_seconds(limit),
     };
-    let mut run = run_limited(crate::sandbox::wrap(launcher, &command, &walls, &[]), limit, None)?;
+    let mut run = run_limited(
+        crate::sandbox::wrap(launcher, &command, &walls, &crate::sandbox::left_out()),
+        limit,
+        None,
+    )?;
     run.limits = Some(limits);
     Ok(run)
 }

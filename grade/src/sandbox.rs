@@ -104,6 +104,17 @@ pub fn launcher_path() -> Option<&'static Path> {
     }
 }
 
+/// Test builds only: the walls named in `RAYLAB_SANDBOX_WITHOUT` (`seccomp,landlock,limits`) are
+/// left out of every graded process, to measure what each one stops. Release builds have none.
+pub fn left_out() -> Vec<Wall> {
+    let names = if cfg!(debug_assertions) {
+        std::env::var("RAYLAB_SANDBOX_WITHOUT").unwrap_or_default()
+    } else {
+        String::new()
+    };
+    Wall::ALL.into_iter().filter(|w| names.split(',').any(|n| n == w.name())).collect()
+}
+
 /// `command` started through `launcher` inside `walls`, leaving out the walls in `without`
 /// (accepted by test builds of the launcher only): the same program, arguments and working
 /// folder, the variables set on `command` and `PATH` (nothing else of the grader's environment),
@@ -111,10 +122,12 @@ pub fn launcher_path() -> Option<&'static Path> {
 pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall]) -> Command {
     let mut wrapped = Command::new(launcher);
     wrapped.arg(LAUNCH);
+    // The launcher starts in the child's working folder: a relative path would name another place.
+    let absolute = |path: &Path| std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
     for path in &walls.read {
-        wrapped.arg("--read").arg(path);
+        wrapped.arg("--read").arg(absolute(path));
     }
-    wrapped.arg("--write").arg(&walls.write);
+    wrapped.arg("--write").arg(absolute(&walls.write));
     let numbers = [
         ("--memory", walls.limits.memory),
         ("--file-size", walls.limits.file_size),
@@ -162,8 +175,12 @@ pub struct Launch {
 
 /// Parses the launcher's arguments (those after [`LAUNCH`]).
 pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
-    let mut walls =
-        Walls { read: Vec::new(), write: PathBuf::new(), limits: Limits { memory: 0, file_size: 0 }, cpu_seconds: 0 };
+    let mut walls = Walls {
+        read: Vec::new(),
+        write: PathBuf::new(),
+        limits: Limits { memory: 0, file_size: 0 },
+        cpu_seconds: 0,
+    };
     let (mut parent, mut without) = (0, Vec::new());
     let mut args = args.iter();
     let number = |value: Option<&OsString>| -> Result<u64, String> {
@@ -215,7 +232,7 @@ mod tests {
     fn the_launchers_arguments_round_trip() {
         let walls = Walls {
             read: vec![PathBuf::from("/scenes"), PathBuf::from("/bin/x")],
-            write: PathBuf::from("/tmp/own"),
+            write: PathBuf::from("own"),
             limits: Limits { memory: 4 << 30, file_size: 64 << 20 },
             cpu_seconds: 40,
         };
@@ -226,14 +243,15 @@ mod tests {
         assert_eq!(args[0], LAUNCH);
         let launch = parse_launch(&args[1..]).unwrap();
         assert_eq!(launch.walls.read, walls.read);
-        assert_eq!(launch.walls.write, walls.write);
+        // A relative folder is made absolute: the launcher starts in the child's working folder.
+        assert_eq!(launch.walls.write, std::env::current_dir().unwrap().join("own"));
         assert_eq!(launch.walls.limits, walls.limits);
         assert_eq!(launch.walls.cpu_seconds, 40);
         assert_eq!(launch.parent, std::process::id());
         assert_eq!(launch.program, ["/bin/render", "scene.toml", "--spp", "4"].map(OsString::from));
         assert_eq!(wrapped.get_current_dir(), Some(Path::new("/work")));
         let envs: Vec<_> = wrapped.get_envs().collect();
-        assert!(envs.contains(&(std::ffi::OsStr::new("TMPDIR"), Some(std::ffi::OsStr::new("/tmp/own")))));
+        assert!(envs.contains(&(std::ffi::OsStr::new("TMPDIR"), Some(std::ffi::OsStr::new("own")))));
         assert!(envs.contains(&(std::ffi::OsStr::new("A"), Some(std::ffi::OsStr::new("1")))));
         assert!(envs.iter().all(|(k, _)| ["TMPDIR", "A", "PATH"].contains(&k.to_str().unwrap())), "{envs:?}");
     }

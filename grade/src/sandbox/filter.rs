@@ -17,8 +17,8 @@
 use std::collections::BTreeMap;
 
 use seccompiler::{
-    BackendError, BpfProgram, SeccompAction, SeccompCmpArgLen as Len, SeccompCmpOp as Op, SeccompCondition, SeccompFilter,
-    SeccompRule, TargetArch,
+    BackendError, BpfProgram, SeccompAction, SeccompCmpArgLen as Len, SeccompCmpOp as Op, SeccompCondition,
+    SeccompFilter, SeccompRule, TargetArch,
 };
 
 /// Installs the filter on the calling thread (the launcher has one), letting `execveat` through
@@ -28,7 +28,8 @@ pub fn install(fd: libc::c_int) -> Result<(), String> {
     let error = |e: BackendError| format!("cannot build the seccomp filter: {e}");
     let arch = TargetArch::try_from(std::env::consts::ARCH).map_err(error)?;
     let refused = compile(refusals(fd, pid).map_err(error)?, libc::EPERM, arch).map_err(error)?;
-    let missing = compile(BTreeMap::from([(libc::SYS_clone3, Vec::new())]), libc::ENOSYS, arch).map_err(error)?;
+    let missing =
+        compile(BTreeMap::from([(libc::SYS_clone3, Vec::new())]), libc::ENOSYS, arch).map_err(error)?;
     for program in [&missing, &refused] {
         seccompiler::apply_filter(program).map_err(|e| format!("cannot install the seccomp filter: {e}"))?;
     }

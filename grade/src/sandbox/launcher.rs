@@ -65,7 +65,14 @@ fn exec_inside(launch: &Launch) -> Result<(), String> {
     // SAFETY: every pointer is a NUL-terminated string that lives until the call, and both
     // arrays end with a null pointer; on success this call does not return.
     unsafe {
-        libc::syscall(libc::SYS_execveat, fd, c"".as_ptr(), argv.as_ptr(), envp.as_ptr(), libc::AT_EMPTY_PATH);
+        libc::syscall(
+            libc::SYS_execveat,
+            fd,
+            c"".as_ptr(),
+            argv.as_ptr(),
+            envp.as_ptr(),
+            libc::AT_EMPTY_PATH,
+        );
     }
     Err(os(&format!("cannot start {}", launch.program[0].to_string_lossy())))
 }
@@ -118,5 +125,7 @@ fn set_limits(launch: &Launch) -> Result<(), String> {
 }
 
 fn c_strings(items: impl Iterator<Item = Vec<u8>>) -> Result<Vec<CString>, String> {
-    items.map(|bytes| CString::new(bytes).map_err(|_| "a NUL in an argument or variable".to_string())).collect()
+    items
+        .map(|bytes| CString::new(bytes).map_err(|_| "a NUL in an argument or variable".to_string()))
+        .collect()
 }

@@ -134,7 +134,9 @@ fn attempt_result(attempt: Attempt, arg: &str) -> std::io::Result<()> {
             unsafe { libc::waitpid(child, std::ptr::null_mut(), 0) };
             Ok(())
         }
-        Attempt::Thread => std::thread::spawn(|| 1 + 1).join().map(drop).map_err(|_| std::io::Error::other("join")),
+        Attempt::Thread => {
+            std::thread::spawn(|| 1 + 1).join().map(drop).map_err(|_| std::io::Error::other("join"))
+        }
         Attempt::Tcp => std::net::TcpStream::connect_timeout(&addr(arg)?, Duration::from_secs(2)).map(drop),
         Attempt::Udp => std::net::UdpSocket::bind("127.0.0.1:0")?.send_to(b"probe", addr(arg)?).map(drop),
         // SAFETY: signal 0 only checks that the signal could be sent.

@@ -200,7 +200,8 @@ fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
         }
         return Ok(());
     }
-    let missing: Vec<String> = sandbox::check().into_iter().filter(|(_, holds)| !holds).map(|(l, _)| l).collect();
+    let missing: Vec<String> =
+        sandbox::check().into_iter().filter(|(_, holds)| !holds).map(|(l, _)| l).collect();
     match missing.is_empty() {
         true => Ok(()),
         false => Err(format!(
