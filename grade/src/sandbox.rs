@@ -213,14 +213,28 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
     Ok(Launch { walls, parent, without, program })
 }
 
+/// One wall, measured.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Measured {
+    /// What a graded process tried, and whether it was refused, in one line.
+    pub line: String,
+    /// Whether the wall held.
+    pub holds: bool,
+    /// Whether grading someone else's code needs it. Every wall is, but the file wall
+    /// (Landlock), whose other half, a dedicated unprivileged user for root, is not built yet:
+    /// until then a machine without Landlock grades with a warning rather than not at all.
+    pub required: bool,
+}
+
 /// The walls this machine gives a graded process, each measured by starting a probe through the
-/// launcher and trying what the wall forbids ([`probe`]): a line each, and whether it holds.
-pub fn check() -> Vec<(String, bool)> {
+/// launcher and trying what the wall forbids ([`probe`]).
+pub fn check() -> Vec<Measured> {
     #[cfg(target_os = "linux")]
     if let Some(launcher) = launcher_path() {
         return probe::measure(launcher);
     }
-    vec![("no walls on this platform: graded code runs with resource limits only".to_string(), false)]
+    let line = "no walls on this platform: graded code runs with resource limits only".to_string();
+    vec![Measured { line, holds: false, required: true }]
 }
 
 #[cfg(test)]

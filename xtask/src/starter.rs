@@ -15,7 +15,7 @@ use crate::{repository, CHECKPOINTS};
 /// Left out of the starter: instructor-only material (this generator, the benchmarks, the
 /// mistake catalogue and what it measured, and the instructor's CI, which runs them). Paths are
 /// relative to the repository; a folder leaves out everything below it.
-const INSTRUCTOR_ONLY: [&str; 13] = [
+const INSTRUCTOR_ONLY: [&str; 14] = [
     "xtask",
     "bench",
     ".ci",
@@ -25,6 +25,7 @@ const INSTRUCTOR_ONLY: [&str; 13] = [
     "docs/ZOO.md",
     "docs/PERFORMANCE.md",
     "docs/INSTRUCTORS.md",
+    "docs/THREAT_MODEL.md",
     "grade/tests",
     "tools",
     // The hidden checks: scenes, references, rubric and tests graded only by the instructor.

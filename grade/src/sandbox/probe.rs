@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use super::{wrap, Wall, Walls};
+use super::{wrap, Measured, Wall, Walls};
 use crate::child::{run_with_limit, Limits};
 
 /// The first argument that makes the grader's executable a probe.
@@ -195,12 +195,11 @@ fn tempdir(what: &str) -> Result<PathBuf, String> {
     Ok(dir)
 }
 
-/// Each wall of this machine, measured: a line saying what a graded process tried and whether
-/// it was refused.
-pub fn measure(launcher: &Path) -> Vec<(String, bool)> {
+/// Each wall of this machine, measured: what a graded process tried and whether it was refused.
+pub fn measure(launcher: &Path) -> Vec<Measured> {
     let outside = match tempdir("outside") {
         Ok(dir) => dir,
-        Err(e) => return vec![(e, false)],
+        Err(e) => return vec![Measured { line: e, holds: false, required: true }],
     };
     let secret = outside.join("secret.txt");
     let _ = std::fs::write(&secret, "secret");
@@ -220,19 +219,25 @@ pub fn measure(launcher: &Path) -> Vec<(String, bool)> {
         (Attempt::Write, outside.join("new.txt").display().to_string(), "write outside its folder"),
         (Attempt::Allocate, (8u64 << 30).to_string(), "reserve 8 GiB of memory"),
     ];
-    let mut lines: Vec<(String, bool)> = cases
+    let mut lines: Vec<Measured> = cases
         .into_iter()
-        .map(|(attempt, arg, what)| match allowed(launcher, attempt, &arg, &[]) {
-            Ok(false) => (format!("refused: {what}"), true),
-            Ok(true) => (format!("ALLOWED: {what}"), false),
-            Err(e) => (e, false),
+        .map(|(attempt, arg, what)| {
+            // The file wall is Landlock's, which some kernels lack: see `Measured::required`.
+            let required = !attempt.walls().contains(&Wall::Landlock) || attempt.walls().len() > 1;
+            let (line, holds) = match allowed(launcher, attempt, &arg, &[]) {
+                Ok(false) => (format!("refused: {what}"), true),
+                Ok(true) => (format!("ALLOWED: {what}"), false),
+                Err(e) => (e, false),
+            };
+            Measured { line, holds, required }
         })
         .collect();
-    match allowed(launcher, Attempt::Thread, "", &[]) {
-        Ok(true) => lines.push(("allowed: start a thread".to_string(), true)),
-        Ok(false) => lines.push(("REFUSED: start a thread (graded code cannot run)".to_string(), false)),
-        Err(e) => lines.push((e, false)),
-    }
+    let (line, holds) = match allowed(launcher, Attempt::Thread, "", &[]) {
+        Ok(true) => ("allowed: start a thread".to_string(), true),
+        Ok(false) => ("REFUSED: start a thread (graded code cannot run)".to_string(), false),
+        Err(e) => (e, false),
+    };
+    lines.push(Measured { line, holds, required: true });
     let _ = std::fs::remove_dir_all(&outside);
     lines
 }

@@ -173,40 +173,44 @@ fn main() -> ExitCode {
 
 /// `grader sandbox --check`: one line per wall; exit 1 if one is missing.
 fn sandbox_check() -> ExitCode {
-    let lines = sandbox::check();
-    for (line, _) in &lines {
-        println!("{line}");
+    let measured = sandbox::check();
+    for wall in &measured {
+        println!("{}", wall.line);
     }
-    let missing = lines.iter().filter(|(_, holds)| !holds).count();
-    match missing {
+    match measured.iter().filter(|w| !w.holds).count() {
         0 => {
             println!("grader: every wall holds: graded code may run here");
             ExitCode::SUCCESS
         }
         n => {
-            println!("grader: {n} wall(s) missing: grade submissions here only with --no-sandbox");
+            println!("grader: {n} wall(s) missing (docs/THREAT_MODEL.md says what each one stops)");
             ExitCode::from(1)
         }
     }
 }
 
 /// Grading someone else's code from the instructor's tree (`root` has no starter manifest) needs
-/// every wall, unless `--no-sandbox`: the walls are measured first, and a missing one stops the
-/// command. A student grading their own tree is never refused.
+/// the walls, unless `--no-sandbox` (which still raises every wall the machine has): they are
+/// measured first; a missing required one stops the command, a missing file wall is a warning
+/// ([`sandbox::Measured::required`]). A student grading their own tree is never refused.
 fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
-    if no_sandbox || root.join(raylab_grade::baseline::STARTER_MANIFEST).is_file() {
-        if no_sandbox {
-            eprintln!("grader: --no-sandbox: graded code runs without the sandbox's walls");
-        }
+    if root.join(raylab_grade::baseline::STARTER_MANIFEST).is_file() {
         return Ok(());
     }
-    let missing: Vec<String> =
-        sandbox::check().into_iter().filter(|(_, holds)| !holds).map(|(l, _)| l).collect();
-    match missing.is_empty() {
-        true => Ok(()),
-        false => Err(format!(
+    let missing: Vec<sandbox::Measured> = sandbox::check().into_iter().filter(|w| !w.holds).collect();
+    for wall in &missing {
+        eprintln!("grader: sandbox: {}", wall.line);
+    }
+    let required: Vec<&str> = missing.iter().filter(|w| w.required).map(|w| w.line.as_str()).collect();
+    match (required.is_empty(), no_sandbox) {
+        (true, _) => Ok(()),
+        (false, true) => {
+            eprintln!("grader: --no-sandbox: grading with the walls this machine has");
+            Ok(())
+        }
+        (false, false) => Err(format!(
             "this machine cannot wall graded code in ({}); see `grader sandbox --check`, or grade anyway with --no-sandbox",
-            missing.join("; ")
+            required.join("; ")
         )),
     }
 }
