@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
+use crate::sandbox::{Profile, Walls};
+
 /// Set in every child the grader starts; a grader that finds it refuses to start children of
 /// its own, so a test that runs the grader can never recurse.
 pub const CHILD_ENV: &str = "RAYLAB_GRADER_CHILD";
@@ -32,6 +34,11 @@ impl Limits {
     /// For graded code (renders, unit tests): 4 GiB of address space (a correct render needs a
     /// few hundred MiB, thread stacks and allocator arenas included), files of at most 64 MiB.
     pub const GRADED: Option<Limits> = Some(Limits { memory: 4 << 30, file_size: 64 << 20 });
+
+    /// For each process of a build (cargo, rustc, the linker): 4 GiB of address space (rustc
+    /// needs under 1 GiB for the renderer; a 128 MiB `static` took 2.8 GB), files of at most 1 GiB
+    /// (the largest the renderer's build writes is under 200 MB).
+    pub const BUILD: Option<Limits> = Some(Limits { memory: 4 << 30, file_size: 1 << 30 });
 }
 
 /// How a child ended.
@@ -209,29 +216,41 @@ pub fn graded_reads(root: &Path) -> Vec<PathBuf> {
 /// Runs graded code: `command` for at most `limit`, under [`Limits::GRADED`], with `own` as its
 /// folder, and inside the sandbox's walls (reading only `read` beyond its program and the system)
 /// when a launcher is set.
-pub fn run_graded(
-    mut command: Command,
-    limit: Duration,
-    read: &[PathBuf],
-    own: &OwnFolder,
-) -> std::io::Result<ChildRun> {
-    let limits = Limits::GRADED.expect("graded code has limits");
-    command.env("TMPDIR", own.path());
-    let Some(launcher) = crate::sandbox::launcher_path() else {
-        return run_limited(command, limit, Some(limits));
-    };
-    let walls = crate::sandbox::Walls {
+pub fn run_graded(command: Command, limit: Duration, read: &[PathBuf], own: &OwnFolder) -> std::io::Result<ChildRun> {
+    let walls = Walls {
+        profile: Profile::Run,
         read: read.to_vec(),
-        write: own.path().to_path_buf(),
-        limits,
+        write: vec![own.path().to_path_buf()],
+        limits: Limits::GRADED.expect("graded code has limits"),
         cpu_seconds: cpu_seconds(limit),
     };
-    let mut run = run_limited(
-        crate::sandbox::wrap(launcher, &command, &walls, &crate::sandbox::left_out()),
-        limit,
-        None,
-    )?;
-    run.limits = Some(limits);
+    run_walled(command, limit, walls)
+}
+
+/// Builds graded code: `cargo` (`command`) for at most `limit`, reading `tree` and writing
+/// `target`, under [`Limits::BUILD`] and the build's walls when a launcher is set.
+pub fn run_build(command: Command, limit: Duration, tree: &Path, target: &Path) -> std::io::Result<ChildRun> {
+    let own = OwnFolder::new()?;
+    let walls = Walls {
+        profile: Profile::Build,
+        read: vec![tree.to_path_buf()],
+        write: vec![own.path().to_path_buf(), target.to_path_buf()],
+        limits: Limits::BUILD.expect("builds have limits"),
+        cpu_seconds: cpu_seconds(limit),
+    };
+    run_walled(command, limit, walls)
+}
+
+/// `command` inside `walls` if a launcher is set, else with their limits only; `TMPDIR` is the
+/// first folder it may write.
+fn run_walled(mut command: Command, limit: Duration, walls: Walls) -> std::io::Result<ChildRun> {
+    command.env("TMPDIR", &walls.write[0]);
+    let Some(launcher) = crate::sandbox::launcher_path() else {
+        return run_limited(command, limit, Some(walls.limits));
+    };
+    let wrapped = crate::sandbox::wrap(launcher, &command, &walls, &crate::sandbox::left_out());
+    let mut run = run_limited(wrapped, limit, None)?;
+    run.limits = Some(walls.limits);
     Ok(run)
 }
 

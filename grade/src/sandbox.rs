@@ -48,14 +48,28 @@ pub mod probe;
 /// The first argument that makes the grader's executable the launcher.
 pub const LAUNCH: &str = "__sandbox";
 
+/// Which walls: a graded program's, or a build's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Profile {
+    /// A render or a unit test: no processes, no exec, no network, its scenes and its folder.
+    Run,
+    /// `cargo` building a submission: it runs compilers and the linker (exec and processes
+    /// allowed), but reaches no network, no other process, and reads only the tree, the
+    /// toolchain and the system; it writes its target folder and its own folder.
+    Build,
+}
+
 /// What one graded process may read and write, and its limits.
 #[derive(Clone, Debug)]
 pub struct Walls {
+    /// A run's walls or a build's.
+    pub profile: Profile,
     /// Folders and files it may read (and execute), besides the system's libraries and its
     /// own program.
     pub read: Vec<PathBuf>,
-    /// Its own folder, the only place it may write (also its `TMPDIR`).
-    pub write: PathBuf,
+        /// Its own folder, the only place it may write (also its `TMPDIR`), and for a build its
+    /// target folder.
+    pub write: Vec<PathBuf>,
     /// Its resource limits.
     pub limits: Limits,
     /// CPU seconds, over all its threads.
@@ -124,10 +138,15 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
     wrapped.arg(LAUNCH);
     // The launcher starts in the child's working folder: a relative path would name another place.
     let absolute = |path: &Path| std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+        if walls.profile == Profile::Build {
+        wrapped.arg("--build");
+    }
     for path in &walls.read {
         wrapped.arg("--read").arg(absolute(path));
     }
-    wrapped.arg("--write").arg(absolute(&walls.write));
+    for path in &walls.write {
+        wrapped.arg("--write").arg(absolute(path));
+    }
     let numbers = [
         ("--memory", walls.limits.memory),
         ("--file-size", walls.limits.file_size),
@@ -140,12 +159,13 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
     for wall in without {
         wrapped.arg("--without").arg(wall.name());
     }
-    wrapped.arg("--").arg(command.get_program()).args(command.get_args());
-    // Nothing of the grader's environment but PATH: the machine's variables (tokens, the test
-    // run's settings) are none of the graded code's business.
+        wrapped.arg("--").arg(on_path(command.get_program())).args(command.get_args());
+        // Nothing of the grader's environment but PATH (and a build's cargo and rustup settings):
+    // the machine's variables (tokens, the test run's settings) are none of the graded code's
+    // business, and a build could compile them in with `option_env!`.
     wrapped.env_clear();
-    if let Some(path) = std::env::var_os("PATH") {
-        wrapped.env("PATH", path);
+    for (key, value) in std::env::vars_os().filter(|(k, _)| kept(k, walls.profile)) {
+        wrapped.env(key, value);
     }
     for (key, value) in command.get_envs() {
         match value {
@@ -156,8 +176,28 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
     if let Some(dir) = command.get_current_dir() {
         wrapped.current_dir(dir);
     }
-    wrapped.env("TMPDIR", &walls.write);
+        if let Some(own) = walls.write.first() {
+        wrapped.env("TMPDIR", own);
+    }
     wrapped
+}
+
+/// Whether a variable of the grader's environment reaches a child of `profile`: `PATH`, and for a
+/// build `HOME` and cargo's and rustup's own settings (`CARGO_*`, `RUSTUP_*`, `RUSTFLAGS`).
+fn kept(key: &std::ffi::OsStr, profile: Profile) -> bool {
+    let key = key.to_str().unwrap_or("");
+    let build = ["HOME", "RUSTFLAGS"].contains(&key) || key.starts_with("CARGO_") || key.starts_with("RUSTUP_");
+    key == "PATH" || (profile == Profile::Build && build)
+}
+
+/// `program` found on `PATH` when it is a bare name (`cargo`): the launcher opens it by path.
+fn on_path(program: &std::ffi::OsStr) -> PathBuf {
+    let name = Path::new(program);
+    if name.components().count() != 1 {
+        return name.to_path_buf();
+    }
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path).map(|dir| dir.join(name)).find(|p| p.is_file()).unwrap_or(name.to_path_buf())
 }
 
 /// What the launcher was asked to do, parsed from its arguments.
@@ -175,9 +215,10 @@ pub struct Launch {
 
 /// Parses the launcher's arguments (those after [`LAUNCH`]).
 pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
-    let mut walls = Walls {
+        let mut walls = Walls {
+        profile: Profile::Run,
         read: Vec::new(),
-        write: PathBuf::new(),
+        write: Vec::new(),
         limits: Limits { memory: 0, file_size: 0 },
         cpu_seconds: 0,
     };
@@ -189,7 +230,8 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
     while let Some(arg) = args.next() {
         match arg.to_str().unwrap_or("") {
             "--read" => walls.read.push(args.next().ok_or("--read needs a path")?.into()),
-            "--write" => walls.write = args.next().ok_or("--write needs a path")?.into(),
+                        "--build" => walls.profile = Profile::Build,
+            "--write" => walls.write.push(args.next().ok_or("--write needs a path")?.into()),
             "--memory" => walls.limits.memory = number(args.next())?,
             "--file-size" => walls.limits.file_size = number(args.next())?,
             "--cpu" => walls.cpu_seconds = number(args.next())?,
@@ -207,7 +249,7 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
         return Err("--without is accepted by test builds only".to_string());
     }
     let program: Vec<OsString> = args.cloned().collect();
-    if program.is_empty() || walls.write.as_os_str().is_empty() {
+    if program.is_empty() || walls.write.is_empty() {
         return Err("the launcher needs --write DIR and a program after --".to_string());
     }
     Ok(Launch { walls, parent, without, program })
@@ -244,9 +286,10 @@ mod tests {
     /// The launcher reads back exactly what `wrap` wrote.
     #[test]
     fn the_launchers_arguments_round_trip() {
-        let walls = Walls {
+                let walls = Walls {
+            profile: Profile::Build,
             read: vec![PathBuf::from("/scenes"), PathBuf::from("/bin/x")],
-            write: PathBuf::from("own"),
+            write: vec![PathBuf::from("own")],
             limits: Limits { memory: 4 << 30, file_size: 64 << 20 },
             cpu_seconds: 40,
         };
@@ -258,7 +301,8 @@ mod tests {
         let launch = parse_launch(&args[1..]).unwrap();
         assert_eq!(launch.walls.read, walls.read);
         // A relative folder is made absolute: the launcher starts in the child's working folder.
-        assert_eq!(launch.walls.write, std::env::current_dir().unwrap().join("own"));
+                assert_eq!(launch.walls.write, [std::env::current_dir().unwrap().join("own")]);
+        assert_eq!(launch.walls.profile, Profile::Build);
         assert_eq!(launch.walls.limits, walls.limits);
         assert_eq!(launch.walls.cpu_seconds, 40);
         assert_eq!(launch.parent, std::process::id());

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use crate::cargo::{cargo, executables, first_error};
-use crate::child::{graded_reads, quote, run_graded, run_with_limit, OwnFolder, CHILD_ENV};
+use crate::cargo::{cargo, executables, first_error, target_dir};
+use crate::child::{graded_reads, quote, run_build, run_graded, OwnFolder, CHILD_ENV};
 use crate::stub::stub_panic;
 
 /// What one `cargo test <filter>` run found.
@@ -84,8 +84,8 @@ pub fn build_tests(root: &Path, target: Option<&Path>, limit: Duration) -> Resul
     let args =
         [&["test", "--no-run", "--message-format=json-render-diagnostics"][..], &checkpoint_targets(root)]
             .concat();
-    let run =
-        run_with_limit(cargo(root, target, &args), limit).map_err(|e| format!("cannot run cargo: {e}"))?;
+        let run = run_build(cargo(root, target, &args), limit, root, &target_dir(root, target))
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
     if !run.success() {
         return Err(first_error(&run, limit));
     }

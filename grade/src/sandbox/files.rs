@@ -6,18 +6,22 @@
 //! `/proc` of other processes, is neither readable nor writable. Where the kernel has Landlock's
 //! scopes (ABI 6), signals and abstract UNIX sockets are kept inside the sandbox too.
 //!
+//! A build reads the system, the toolchain (`CARGO_HOME`, `RUSTUP_HOME`) and the scratch tree, and
+//! writes its target folder and its own: not the instructor's tree, its references or other
+//! students' folders, wherever an `include_bytes!` points.
+//!
 //! Best effort, as the `landlock` crate defines it: a kernel without Landlock leaves this wall
 //! out (`grader sandbox --check` says so); a kernel with an older ABI enforces what it knows.
 
 use std::ffi::OsString;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use landlock::{
     path_beneath_rules, Access, AccessFs, AccessNet, Ruleset, RulesetAttr, RulesetCreatedAttr, RulesetStatus,
     Scope, ABI,
 };
 
-use super::Walls;
+use super::{Profile, Walls};
 
 /// The newest Landlock ABI this wall is written for.
 const TARGET: ABI = ABI::V6;
@@ -26,25 +30,44 @@ const TARGET: ABI = ABI::V6;
 /// configuration.
 const SYSTEM: [&str; 6] = ["/usr", "/lib", "/lib64", "/etc/ld.so.cache", "/dev/null", "/dev/urandom"];
 
-/// What the kernel does with the process's own view of itself and its limits.
+/// The process's own view of itself and its limits.
 const SELF_VIEW: [&str; 2] = ["/proc/self", "/sys/fs/cgroup"];
+
+/// What a build reads besides the tree: the system (compilers, linker, headers, the C library)
+/// and its processes' views of themselves.
+const BUILD_SYSTEM: [&str; 7] = ["/usr", "/lib", "/lib64", "/etc", "/proc", "/sys", "/dev"];
 
 /// Restricts the calling thread (and what it executes) to `walls`, with `program` executable.
 pub fn restrict(walls: &Walls, program: &OsString) -> Result<RulesetStatus, String> {
     let error = |e: landlock::RulesetError| format!("cannot raise the file wall: {e}");
-    let program = PathBuf::from(program);
-    let mut read: Vec<&Path> = SYSTEM.iter().chain(&SELF_VIEW).map(Path::new).collect();
-    read.extend(walls.read.iter().map(PathBuf::as_path));
-    read.push(&program);
-    let read = read.into_iter().filter(|p| p.exists());
+    let mut read: Vec<PathBuf> = match walls.profile {
+        Profile::Run => SYSTEM.iter().chain(&SELF_VIEW).map(PathBuf::from).collect(),
+        Profile::Build => BUILD_SYSTEM.iter().map(PathBuf::from).chain(toolchain()).collect(),
+    };
+    read.extend(walls.read.iter().cloned());
+    read.push(PathBuf::from(program));
+    let mut write = walls.write.clone();
+    if walls.profile == Profile::Build {
+        // Compilers write their probes' output there.
+        write.push(PathBuf::from("/dev/null"));
+    }
+    let (read, write) = (read.into_iter().filter(|p| p.exists()), write.into_iter().filter(|p| p.exists()));
     let status = Ruleset::default()
         .handle_access(AccessFs::from_all(TARGET))
         .and_then(|r| r.handle_access(AccessNet::from_all(TARGET)))
         .and_then(|r| r.scope(Scope::from_all(TARGET)))
         .and_then(|r| r.create())
         .and_then(|r| r.add_rules(path_beneath_rules(read, AccessFs::from_read(TARGET))))
-        .and_then(|r| r.add_rules(path_beneath_rules([&walls.write], AccessFs::from_all(TARGET))))
+        .and_then(|r| r.add_rules(path_beneath_rules(write, AccessFs::from_all(TARGET))))
         .and_then(|r| r.restrict_self())
         .map_err(error)?;
     Ok(status.ruleset)
+}
+
+/// Where cargo and rustup keep the toolchain and the crates' sources: `CARGO_HOME` and
+/// `RUSTUP_HOME`, by default `~/.cargo` and `~/.rustup`.
+fn toolchain() -> Vec<PathBuf> {
+    let home = std::env::var_os("HOME").map(PathBuf::from).unwrap_or_default();
+    let or = |var: &str, default: &str| std::env::var_os(var).map(PathBuf::from).unwrap_or(home.join(default));
+    vec![or("CARGO_HOME", ".cargo"), or("RUSTUP_HOME", ".rustup")]
 }

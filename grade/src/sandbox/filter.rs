@@ -16,21 +16,30 @@
 
 use std::collections::BTreeMap;
 
+use super::Profile;
 use seccompiler::{
     BackendError, BpfProgram, SeccompAction, SeccompCmpArgLen as Len, SeccompCmpOp as Op, SeccompCondition,
     SeccompFilter, SeccompRule, TargetArch,
 };
 
-/// Installs the filter on the calling thread (the launcher has one), letting `execveat` through
-/// for descriptor `fd` only.
-pub fn install(fd: libc::c_int) -> Result<(), String> {
+/// Installs the filter of `profile` on the calling thread (the launcher has one), letting
+/// `execveat` through for descriptor `fd` only in a run. A build may run programs and start
+/// processes (cargo runs rustc, rustc the linker): its filter keeps only the network, other
+/// processes' memory and the kernel's side doors closed.
+pub fn install(fd: libc::c_int, profile: Profile) -> Result<(), String> {
     let pid = std::process::id() as u64;
     let error = |e: BackendError| format!("cannot build the seccomp filter: {e}");
     let arch = TargetArch::try_from(std::env::consts::ARCH).map_err(error)?;
-    let refused = compile(refusals(fd, pid).map_err(error)?, libc::EPERM, arch).map_err(error)?;
-    let missing =
-        compile(BTreeMap::from([(libc::SYS_clone3, Vec::new())]), libc::ENOSYS, arch).map_err(error)?;
-    for program in [&missing, &refused] {
+    let rules = match profile {
+        Profile::Run => refusals(fd, pid),
+        Profile::Build => build_refusals(),
+    };
+    let mut programs = vec![compile(rules.map_err(error)?, libc::EPERM, arch).map_err(error)?];
+    if profile == Profile::Run {
+        let clone3 = BTreeMap::from([(libc::SYS_clone3, Vec::new())]);
+        programs.insert(0, compile(clone3, libc::ENOSYS, arch).map_err(error)?);
+    }
+    for program in &programs {
         seccompiler::apply_filter(program).map_err(|e| format!("cannot install the seccomp filter: {e}"))?;
     }
     Ok(())
@@ -54,7 +63,49 @@ fn when(conditions: &[(u8, Len, Op, u64)]) -> Result<SeccompRule, BackendError> 
     SeccompRule::new(conditions)
 }
 
-/// The refused calls: an empty rule list refuses the call always, otherwise when any rule holds.
+/// The calls every profile refuses: other processes' memory and descriptors, the file wall's
+/// side doors, and calls this filter cannot see into.
+const ALWAYS: [i64; 29] = [
+    libc::SYS_ptrace,
+    libc::SYS_process_vm_readv,
+    libc::SYS_process_vm_writev,
+    libc::SYS_pidfd_getfd,
+    libc::SYS_kcmp,
+    libc::SYS_unshare,
+    libc::SYS_setns,
+    libc::SYS_mount,
+    libc::SYS_umount2,
+    libc::SYS_pivot_root,
+    libc::SYS_chroot,
+    libc::SYS_open_tree,
+    libc::SYS_move_mount,
+    libc::SYS_fsopen,
+    libc::SYS_fsconfig,
+    libc::SYS_fsmount,
+    libc::SYS_fspick,
+    libc::SYS_mount_setattr,
+    libc::SYS_name_to_handle_at,
+    libc::SYS_open_by_handle_at,
+    libc::SYS_io_uring_setup,
+    libc::SYS_io_uring_enter,
+    libc::SYS_io_uring_register,
+    libc::SYS_bpf,
+    libc::SYS_perf_event_open,
+    libc::SYS_userfaultfd,
+    libc::SYS_keyctl,
+    libc::SYS_add_key,
+    libc::SYS_request_key,
+];
+
+/// A build's refusals: [`ALWAYS`], and every socket but a UNIX one.
+fn build_refusals() -> Result<BTreeMap<i64, Vec<SeccompRule>>, BackendError> {
+    let not_unix = || when(&[(0, Len::Dword, Op::Ne, libc::AF_UNIX as u64)]).map(|r| vec![r]);
+    let mut rules = BTreeMap::from([(libc::SYS_socket, not_unix()?), (libc::SYS_socketpair, not_unix()?)]);
+    rules.extend(ALWAYS.map(|call| (call, Vec::new())));
+    Ok(rules)
+}
+
+/// A run's refusals: an empty rule list refuses the call always, otherwise when any rule holds.
 fn refusals(fd: libc::c_int, pid: u64) -> Result<BTreeMap<i64, Vec<SeccompRule>>, BackendError> {
     let not_unix = || when(&[(0, Len::Dword, Op::Ne, libc::AF_UNIX as u64)]).map(|r| vec![r]);
     let not_self = || when(&[(0, Len::Dword, Op::Ne, pid)]).map(|r| vec![r]);
@@ -78,41 +129,13 @@ fn refusals(fd: libc::c_int, pid: u64) -> Result<BTreeMap<i64, Vec<SeccompRule>>
     ]);
     let always = [
         libc::SYS_tkill,
-        libc::SYS_ptrace,
-        libc::SYS_process_vm_readv,
-        libc::SYS_process_vm_writev,
         libc::SYS_pidfd_open,
         libc::SYS_pidfd_send_signal,
-        libc::SYS_pidfd_getfd,
-        libc::SYS_kcmp,
         libc::SYS_setsid,
         libc::SYS_setpgid,
         libc::SYS_setrlimit,
-        libc::SYS_unshare,
-        libc::SYS_setns,
-        libc::SYS_mount,
-        libc::SYS_umount2,
-        libc::SYS_pivot_root,
-        libc::SYS_chroot,
-        libc::SYS_open_tree,
-        libc::SYS_move_mount,
-        libc::SYS_fsopen,
-        libc::SYS_fsconfig,
-        libc::SYS_fsmount,
-        libc::SYS_fspick,
-        libc::SYS_mount_setattr,
-        libc::SYS_name_to_handle_at,
-        libc::SYS_open_by_handle_at,
-        libc::SYS_io_uring_setup,
-        libc::SYS_io_uring_enter,
-        libc::SYS_io_uring_register,
-        libc::SYS_bpf,
-        libc::SYS_perf_event_open,
-        libc::SYS_userfaultfd,
-        libc::SYS_keyctl,
-        libc::SYS_add_key,
-        libc::SYS_request_key,
     ];
+    rules.extend(ALWAYS.map(|call| (call, Vec::new())));
     rules.extend(always.map(|call| (call, Vec::new())));
     #[cfg(target_arch = "x86_64")]
     rules.extend([libc::SYS_fork, libc::SYS_vfork].map(|call| (call, Vec::new())));

@@ -54,7 +54,7 @@ fn exec_inside(launch: &Launch) -> Result<(), String> {
         files::restrict(&launch.walls, &launch.program[0])?;
     }
     if on(Wall::Seccomp) {
-        filter::install(fd)?;
+        filter::install(fd, launch.walls.profile)?;
     }
     let argv = c_strings(launch.program.iter().map(|a| a.as_bytes().to_vec()))?;
     let envp = c_strings(std::env::vars_os().map(|(k, v)| [k.as_bytes(), b"=", v.as_bytes()].concat()))?;

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use super::{wrap, Measured, Wall, Walls};
+use super::{wrap, Measured, Profile, Wall, Walls};
 use crate::child::{run_with_limit, Limits};
 
 /// The first argument that makes the grader's executable a probe.
@@ -171,8 +171,9 @@ pub fn allowed(launcher: &Path, attempt: Attempt, arg: &str, without: &[Wall]) -
     let mut probe = Command::new(launcher);
     probe.arg(PROBE).arg(attempt.name()).arg(arg);
     let walls = Walls {
+        profile: Profile::Run,
         read: Vec::new(),
-        write: own.clone(),
+        write: vec![own.clone()],
         limits: Limits::GRADED.expect("graded limits"),
         cpu_seconds: 10,
     };
