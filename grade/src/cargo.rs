@@ -65,7 +65,7 @@ pub fn error_place(message: &str) -> Option<(PathBuf, usize)> {
 /// the executable cargo reports; `Err` carries the first compiler error.
 pub fn build_renderer(root: &Path, target: Option<&Path>) -> Result<PathBuf, String> {
     let args = ["build", "--quiet", "--bin", "render", "--message-format=json-render-diagnostics"];
-        let run = run_build(cargo(root, target, &args), BUILD_TIME_LIMIT, root, &target_dir(root, target))
+    let run = run_build(cargo(root, target, &args), BUILD_TIME_LIMIT, root, &target_dir(root, target))
         .map_err(|e| format!("cannot run cargo: {e}"))?;
     if !run.success() {
         return Err(first_error(&run, BUILD_TIME_LIMIT));

@@ -216,7 +216,12 @@ pub fn graded_reads(root: &Path) -> Vec<PathBuf> {
 /// Runs graded code: `command` for at most `limit`, under [`Limits::GRADED`], with `own` as its
 /// folder, and inside the sandbox's walls (reading only `read` beyond its program and the system)
 /// when a launcher is set.
-pub fn run_graded(command: Command, limit: Duration, read: &[PathBuf], own: &OwnFolder) -> std::io::Result<ChildRun> {
+pub fn run_graded(
+    command: Command,
+    limit: Duration,
+    read: &[PathBuf],
+    own: &OwnFolder,
+) -> std::io::Result<ChildRun> {
     let walls = Walls {
         profile: Profile::Run,
         read: read.to_vec(),

@@ -67,7 +67,7 @@ pub struct Walls {
     /// Folders and files it may read (and execute), besides the system's libraries and its
     /// own program.
     pub read: Vec<PathBuf>,
-        /// Its own folder, the only place it may write (also its `TMPDIR`), and for a build its
+    /// Its own folder, the only place it may write (also its `TMPDIR`), and for a build its
     /// target folder.
     pub write: Vec<PathBuf>,
     /// Its resource limits.
@@ -138,7 +138,7 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
     wrapped.arg(LAUNCH);
     // The launcher starts in the child's working folder: a relative path would name another place.
     let absolute = |path: &Path| std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-        if walls.profile == Profile::Build {
+    if walls.profile == Profile::Build {
         wrapped.arg("--build");
     }
     for path in &walls.read {
@@ -159,8 +159,8 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
     for wall in without {
         wrapped.arg("--without").arg(wall.name());
     }
-        wrapped.arg("--").arg(on_path(command.get_program())).args(command.get_args());
-        // Nothing of the grader's environment but PATH (and a build's cargo and rustup settings):
+    wrapped.arg("--").arg(on_path(command.get_program())).args(command.get_args());
+    // Nothing of the grader's environment but PATH (and a build's cargo and rustup settings):
     // the machine's variables (tokens, the test run's settings) are none of the graded code's
     // business, and a build could compile them in with `option_env!`.
     wrapped.env_clear();
@@ -176,7 +176,7 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
     if let Some(dir) = command.get_current_dir() {
         wrapped.current_dir(dir);
     }
-        if let Some(own) = walls.write.first() {
+    if let Some(own) = walls.write.first() {
         wrapped.env("TMPDIR", own);
     }
     wrapped
@@ -186,7 +186,8 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
 /// build `HOME` and cargo's and rustup's own settings (`CARGO_*`, `RUSTUP_*`, `RUSTFLAGS`).
 fn kept(key: &std::ffi::OsStr, profile: Profile) -> bool {
     let key = key.to_str().unwrap_or("");
-    let build = ["HOME", "RUSTFLAGS"].contains(&key) || key.starts_with("CARGO_") || key.starts_with("RUSTUP_");
+    let build =
+        ["HOME", "RUSTFLAGS"].contains(&key) || key.starts_with("CARGO_") || key.starts_with("RUSTUP_");
     key == "PATH" || (profile == Profile::Build && build)
 }
 
@@ -215,7 +216,7 @@ pub struct Launch {
 
 /// Parses the launcher's arguments (those after [`LAUNCH`]).
 pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
-        let mut walls = Walls {
+    let mut walls = Walls {
         profile: Profile::Run,
         read: Vec::new(),
         write: Vec::new(),
@@ -230,7 +231,7 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
     while let Some(arg) = args.next() {
         match arg.to_str().unwrap_or("") {
             "--read" => walls.read.push(args.next().ok_or("--read needs a path")?.into()),
-                        "--build" => walls.profile = Profile::Build,
+            "--build" => walls.profile = Profile::Build,
             "--write" => walls.write.push(args.next().ok_or("--write needs a path")?.into()),
             "--memory" => walls.limits.memory = number(args.next())?,
             "--file-size" => walls.limits.file_size = number(args.next())?,
@@ -286,7 +287,7 @@ mod tests {
     /// The launcher reads back exactly what `wrap` wrote.
     #[test]
     fn the_launchers_arguments_round_trip() {
-                let walls = Walls {
+        let walls = Walls {
             profile: Profile::Build,
             read: vec![PathBuf::from("/scenes"), PathBuf::from("/bin/x")],
             write: vec![PathBuf::from("own")],
@@ -301,7 +302,7 @@ mod tests {
         let launch = parse_launch(&args[1..]).unwrap();
         assert_eq!(launch.walls.read, walls.read);
         // A relative folder is made absolute: the launcher starts in the child's working folder.
-                assert_eq!(launch.walls.write, [std::env::current_dir().unwrap().join("own")]);
+        assert_eq!(launch.walls.write, [std::env::current_dir().unwrap().join("own")]);
         assert_eq!(launch.walls.profile, Profile::Build);
         assert_eq!(launch.walls.limits, walls.limits);
         assert_eq!(launch.walls.cpu_seconds, 40);

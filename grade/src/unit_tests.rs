@@ -84,7 +84,7 @@ pub fn build_tests(root: &Path, target: Option<&Path>, limit: Duration) -> Resul
     let args =
         [&["test", "--no-run", "--message-format=json-render-diagnostics"][..], &checkpoint_targets(root)]
             .concat();
-        let run = run_build(cargo(root, target, &args), limit, root, &target_dir(root, target))
+    let run = run_build(cargo(root, target, &args), limit, root, &target_dir(root, target))
         .map_err(|e| format!("cannot run cargo: {e}"))?;
     if !run.success() {
         return Err(first_error(&run, limit));

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use raylab_grade::sandbox::probe::{allowed, Attempt};
-use raylab_grade::sandbox::Wall;
+use raylab_grade::sandbox::{Profile, Wall};
 
 fn launcher() -> &'static Path {
     Path::new(env!("CARGO_BIN_EXE_grader"))
@@ -59,4 +59,30 @@ fn every_wall_refuses_what_it_is_for_and_only_it() {
     let (_, written) = outside();
     let _ = std::fs::remove_dir_all(written.parent().unwrap());
     assert!(wrong.is_empty(), "{wrong:#?}");
+}
+
+/// A build runs programs and starts processes (cargo runs rustc, rustc the linker), but reaches
+/// no network, no other process and no file outside the tree, the toolchain and the system.
+#[test]
+fn a_build_runs_compilers_but_reaches_no_network_and_no_file_outside() {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let tcp = listener.local_addr().unwrap().to_string();
+    let build = |attempt: Attempt| {
+        raylab_grade::sandbox::probe::allowed_in(
+            launcher(),
+            Profile::Build,
+            attempt,
+            &argument(attempt, &tcp),
+            &[],
+        )
+        .unwrap()
+    };
+    let allowed: Vec<bool> = [Attempt::ExecShell, Attempt::Fork, Attempt::Thread].map(build).to_vec();
+    assert_eq!(allowed, [true, true, true], "exec, fork, thread");
+    let refused =
+        [Attempt::Tcp, Attempt::Udp, Attempt::Ptrace, Attempt::Read, Attempt::Write, Attempt::Allocate];
+    let leaks: Vec<&str> = refused.into_iter().filter(|&a| build(a)).map(Attempt::name).collect();
+    let (_, written) = outside();
+    let _ = std::fs::remove_dir_all(written.parent().unwrap());
+    assert!(leaks.is_empty(), "a build was allowed to: {leaks:?}");
 }

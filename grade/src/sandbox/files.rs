@@ -68,6 +68,7 @@ pub fn restrict(walls: &Walls, program: &OsString) -> Result<RulesetStatus, Stri
 /// `RUSTUP_HOME`, by default `~/.cargo` and `~/.rustup`.
 fn toolchain() -> Vec<PathBuf> {
     let home = std::env::var_os("HOME").map(PathBuf::from).unwrap_or_default();
-    let or = |var: &str, default: &str| std::env::var_os(var).map(PathBuf::from).unwrap_or(home.join(default));
+    let or =
+        |var: &str, default: &str| std::env::var_os(var).map(PathBuf::from).unwrap_or(home.join(default));
     vec![or("CARGO_HOME", ".cargo"), or("RUSTUP_HOME", ".rustup")]
 }

@@ -165,13 +165,24 @@ fn addr(arg: &str) -> std::io::Result<std::net::SocketAddr> {
 }
 
 /// Whether `attempt` (with `arg`) succeeds in a probe started through `launcher` inside the
-/// walls a graded process gets, leaving out `without`; `Err` if the probe did not run.
+/// walls a graded run gets, leaving out `without`; `Err` if the probe did not run.
 pub fn allowed(launcher: &Path, attempt: Attempt, arg: &str, without: &[Wall]) -> Result<bool, String> {
+    allowed_in(launcher, Profile::Run, attempt, arg, without)
+}
+
+/// [`allowed`] inside the walls of `profile`.
+pub fn allowed_in(
+    launcher: &Path,
+    profile: Profile,
+    attempt: Attempt,
+    arg: &str,
+    without: &[Wall],
+) -> Result<bool, String> {
     let own = tempdir("probe")?;
     let mut probe = Command::new(launcher);
     probe.arg(PROBE).arg(attempt.name()).arg(arg);
     let walls = Walls {
-        profile: Profile::Run,
+        profile,
         read: Vec::new(),
         write: vec![own.clone()],
         limits: Limits::GRADED.expect("graded limits"),
