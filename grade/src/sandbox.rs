@@ -101,6 +101,21 @@ impl Wall {
     }
 }
 
+/// The walls missing on this machine when someone else's code is graded here anyway.
+static MISSING: OnceLock<Vec<String>> = OnceLock::new();
+
+/// Records the walls `grader submission DIR` or `grader batch` found missing and graded without
+/// (the file wall, or any with `--no-sandbox`), for [`missing_note`].
+pub fn note_missing(lines: Vec<String>) {
+    let _ = MISSING.set(lines);
+}
+
+/// What every report of this run says when it was graded without some wall.
+pub fn missing_note() -> Option<String> {
+    let missing = MISSING.get().filter(|m| !m.is_empty())?;
+    Some(format!("Graded without some of the sandbox's walls on this machine: {}.", missing.join("; ")))
+}
+
 /// The launcher: the grader's executable, set once by the `grader` binary.
 static LAUNCHER: OnceLock<PathBuf> = OnceLock::new();
 

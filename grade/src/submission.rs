@@ -58,8 +58,7 @@ pub fn grade_submission(
     let start = std::time::Instant::now();
     let mut submission = read_submission(&Baseline::Tree(instructor), dir)?;
     let tree = work.join("tree");
-    // CARGO_TARGET_DIR, when set, shares compiled dependencies with other builds.
-    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| work.join("target"), PathBuf::from);
+    let target = build_target(work, std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from));
     write_spliced_tree(instructor, &submission, &tree)?;
     let splice_seconds = start.elapsed().as_secs_f64();
     // A region that does not compile is replaced by its stub, and the tree built again, so that
@@ -227,13 +226,28 @@ pub fn text(report: &SubmissionReport) -> String {
         report.splice_seconds,
         report.phases.build,
         report.phases.tests,
-        report.phases.renders
+                report.phases.renders
     );
+    if let Some(note) = crate::sandbox::missing_note() {
+        let _ = writeln!(out, "{note}");
+    }
     lists(
         &mut out,
         [("Regions not taken", report.submission.notes()), ("Ignored", report.submission.ignored.clone())],
     );
     out
+}
+
+/// Where the scratch tree `work/tree` is built: `CARGO_TARGET_DIR` when set (it shares compiled
+/// dependencies with other builds), unless the tree lies inside it. Cargo records a tree inside its
+/// target folder by paths relative to that folder and names its builds independently of where the
+/// tree is, so a later tree elsewhere sharing the folder would be found "fresh" against the old
+/// tree's files and graded with the old tree's binaries (seen: every student of a class graded with
+/// one earlier submission's code). Such a tree gets `work/target` of its own.
+fn build_target(work: &Path, shared: Option<PathBuf>) -> PathBuf {
+    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let outside = |t: &PathBuf| !absolute(&work.join("tree")).starts_with(absolute(t));
+    shared.filter(outside).unwrap_or_else(|| work.join("target"))
 }
 
 /// The text of a student's own tree graded once ([`SubmissionReport::own_tree`]).
@@ -265,5 +279,20 @@ fn lists<const N: usize>(out: &mut String, lists: [(&str, Vec<String>); N]) {
                 let _ = writeln!(out, "  - {line}");
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scratch tree inside the shared target folder is built in a target of its own.
+    #[test]
+    fn a_tree_inside_the_shared_target_folder_gets_its_own() {
+        let shared = PathBuf::from("/ci/target");
+        assert_eq!(build_target(Path::new("/ci/work"), Some(shared.clone())), shared);
+        let inside = Path::new("/ci/target/grader-submission");
+        assert_eq!(build_target(inside, Some(shared)), inside.join("target"));
+        assert_eq!(build_target(Path::new("/w"), None), PathBuf::from("/w/target"));
     }
 }

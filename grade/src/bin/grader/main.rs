@@ -202,6 +202,7 @@ fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
         eprintln!("grader: sandbox: {}", wall.line);
     }
     let required: Vec<&str> = missing.iter().filter(|w| w.required).map(|w| w.line.as_str()).collect();
+    sandbox::note_missing(missing.iter().map(|w| w.line.clone()).collect());
     match (required.is_empty(), no_sandbox) {
         (true, _) => Ok(()),
         (false, true) => {
