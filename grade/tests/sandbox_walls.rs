@@ -86,3 +86,27 @@ fn a_build_runs_compilers_but_reaches_no_network_and_no_file_outside() {
     let _ = std::fs::remove_dir_all(written.parent().unwrap());
     assert!(leaks.is_empty(), "a build was allowed to: {leaks:?}");
 }
+
+/// A grader killed in the middle of a build takes the build's processes with it: the launcher of
+/// a build stays as their supervisor and kills its whole group when its parent dies. Here the
+/// "grader" is a shell that starts a build whose program leaves a job behind, then kills itself.
+#[test]
+fn a_killed_grader_leaves_no_build_process_running() {
+    use std::os::unix::process::CommandExt;
+    let dir = std::env::temp_dir().join(format!("raylab-orphan-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let marker = dir.join("written-after-the-grader-died");
+    let build = format!("(sleep 2; touch {}) & wait", marker.display());
+    let grader = format!(
+        "{} __sandbox --build --write {} --memory 4294967296 --file-size 1073741824 --cpu 60 --parent $$ -- /bin/sh -c '{build}' & sleep 0.5; kill -9 $$",
+        launcher().display(),
+        dir.display()
+    );
+    let status =
+        std::process::Command::new("/bin/sh").arg("-c").arg(grader).process_group(0).status().unwrap();
+    assert!(!status.success(), "the shell killed itself");
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let written = marker.exists();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(!written, "a process of the build outlived the grader");
+}

@@ -11,13 +11,16 @@
 //!    only, and refuses every limit change from here on.
 //! 6. `execveat(n, "", argv, envp, AT_EMPTY_PATH)`.
 //!
+//! A build's launcher forks first and does all this in its child, staying as the supervisor that
+//! takes the build's compilers down with it ([`supervise`]).
+//!
 //! Any failure is printed on one line (`sandbox: ...`) and exits with status 125, before the
 //! graded program ever runs: a wall that cannot be raised is never silently left out.
 
 use std::ffi::{CString, OsString};
 use std::os::unix::ffi::OsStrExt;
 
-use super::{files, filter, parse_launch, Launch, Wall};
+use super::{files, filter, parse_launch, Launch, Profile, Wall};
 
 /// Exit status of a launcher that could not raise its walls.
 pub const FAILED: u8 = 125;
@@ -26,24 +29,83 @@ pub const FAILED: u8 = 125;
 /// limit is lower).
 const PROGRAM_FD: libc::c_int = 1000;
 
-/// Runs the launcher with `args` (those after `__sandbox`); returns only on failure.
+/// Runs the launcher with `args` (those after `__sandbox`): a run becomes its program and returns
+/// only on failure; a build returns cargo's exit status.
 pub fn launch(args: &[OsString]) -> std::process::ExitCode {
-    let result = parse_launch(args).and_then(|launch| exec_inside(&launch));
-    let message = result.err().unwrap_or_else(|| "the program did not start".to_string());
-    eprintln!("sandbox: {message}");
-    std::process::ExitCode::from(FAILED)
+    let result = parse_launch(args).and_then(|launch| match launch.walls.profile {
+        Profile::Run => exec_inside(&launch, launch.parent).map(|()| FAILED),
+        Profile::Build => supervise(&launch),
+    });
+    match result {
+        Ok(status) => std::process::ExitCode::from(status),
+        Err(message) => {
+            eprintln!("sandbox: {message}");
+            std::process::ExitCode::from(FAILED)
+        }
+    }
 }
 
-fn exec_inside(launch: &Launch) -> Result<(), String> {
-    let os = |what: &str| format!("{what}: {}", std::io::Error::last_os_error());
+/// A build starts processes of its own (cargo runs rustc, rustc the linker), which a launcher
+/// that became cargo could not take down with it. So for a build the launcher stays, as cargo's
+/// parent in the same process group: when the grader dies (`PR_SET_PDEATHSIG`, SIGTERM here) it
+/// kills that whole group, itself included; otherwise it waits for cargo and exits as cargo did
+/// (128 + the signal that killed it). The grader kills the group when the build ends or its time
+/// is up, as for every child.
+fn supervise(launch: &Launch) -> Result<u8, String> {
+    die_with(launch.parent, libc::SIGTERM)?;
+    let handler = kill_own_group as extern "C" fn(libc::c_int);
+    // SAFETY: the handler only calls kill, which is async-signal-safe.
+    unsafe { libc::signal(libc::SIGTERM, handler as libc::sighandler_t) };
+    let me = std::process::id();
+    // SAFETY: this process has one thread; the child raises its walls and executes cargo (exec
+    // resets the handler), or exits.
+    let child = unsafe { libc::fork() };
+    if child == 0 {
+        let error = exec_inside(launch, me).err().unwrap_or_default();
+        eprintln!("sandbox: {error}");
+        // SAFETY: _exit ends the child without running the parent's exit handlers.
+        unsafe { libc::_exit(FAILED as libc::c_int) };
+    }
+    if child < 0 {
+        return Err(format!("cannot start the build: {}", std::io::Error::last_os_error()));
+    }
+    let mut status = 0;
+    // SAFETY: waitpid writes the status of our own child.
+    while unsafe { libc::waitpid(child, &mut status, 0) } != child {
+        if std::io::Error::last_os_error().kind() != std::io::ErrorKind::Interrupted {
+            return Err(format!("cannot wait for the build: {}", std::io::Error::last_os_error()));
+        }
+    }
+    Ok(match libc::WIFEXITED(status) {
+        true => libc::WEXITSTATUS(status) as u8,
+        false => 128u8.saturating_add(libc::WTERMSIG(status) as u8),
+    })
+}
+
+/// SIGTERM's handler in a build's launcher: the whole group, the launcher included.
+extern "C" fn kill_own_group(_: libc::c_int) {
+    // SAFETY: kill is async-signal-safe; 0 names this process's group.
+    unsafe { libc::kill(0, libc::SIGKILL) };
+}
+
+/// Asks for `signal` when the process `parent` (which started this one) dies, and stops if it
+/// already has.
+fn die_with(parent: u32, signal: libc::c_int) -> Result<(), String> {
     // SAFETY: prctl with PR_SET_PDEATHSIG takes a signal number and changes nothing else.
-    if unsafe { libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0) } != 0 {
-        return Err(os("cannot ask to die with the grader"));
+    if unsafe { libc::prctl(libc::PR_SET_PDEATHSIG, signal, 0, 0, 0) } != 0 {
+        return Err(format!("cannot ask to die with the grader: {}", std::io::Error::last_os_error()));
     }
     // SAFETY: getppid has no arguments and cannot fail.
-    if launch.parent != 0 && unsafe { libc::getppid() } as u32 != launch.parent {
+    if parent != 0 && unsafe { libc::getppid() } as u32 != parent {
         return Err("the grader is gone".to_string());
     }
+    Ok(())
+}
+
+/// Raises the walls and executes the program; `parent` is the process whose death kills it.
+fn exec_inside(launch: &Launch, parent: u32) -> Result<(), String> {
+    let os = |what: &str| format!("{what}: {}", std::io::Error::last_os_error());
+    die_with(parent, libc::SIGKILL)?;
     let program = CString::new(launch.program[0].as_bytes()).map_err(|_| "a NUL in the program's name")?;
     let fd = program_descriptor(&program)?;
     let on = |wall: Wall| !launch.without.contains(&wall);
