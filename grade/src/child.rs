@@ -235,6 +235,8 @@ pub fn run_graded(
 /// Builds graded code: `cargo` (`command`) for at most `limit`, reading `tree` and writing
 /// `target`, under [`Limits::BUILD`] and the build's walls when a launcher is set.
 pub fn run_build(command: Command, limit: Duration, tree: &Path, target: &Path) -> std::io::Result<ChildRun> {
+    // Made here: cargo would make it beside, in a folder the build may not write.
+    std::fs::create_dir_all(target)?;
     let own = OwnFolder::new()?;
     let walls = Walls {
         profile: Profile::Build,

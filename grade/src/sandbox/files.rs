@@ -45,6 +45,9 @@ pub fn restrict(walls: &Walls, program: &OsString) -> Result<RulesetStatus, Stri
         Profile::Build => BUILD_SYSTEM.iter().map(PathBuf::from).chain(toolchain()).collect(),
     };
     read.extend(walls.read.iter().cloned());
+    if walls.profile == Profile::Build {
+        read.extend(cargo_configs(&walls.read));
+    }
     read.push(PathBuf::from(program));
     let mut write = walls.write.clone();
     if walls.profile == Profile::Build {
@@ -62,6 +65,13 @@ pub fn restrict(walls: &Walls, program: &OsString) -> Result<RulesetStatus, Stri
         .and_then(|r| r.restrict_self())
         .map_err(error)?;
     Ok(status.ruleset)
+}
+
+/// The `.cargo` folders of the ancestors of `paths`: cargo reads every ancestor's
+/// `.cargo/config.toml` and stops with "permission denied" on one it cannot (a scratch tree
+/// below the instructor's repository, the default `target/grader-submission`).
+fn cargo_configs(paths: &[PathBuf]) -> Vec<PathBuf> {
+    paths.iter().flat_map(|p| p.ancestors().skip(1).map(|a| a.join(".cargo"))).collect()
 }
 
 /// Where cargo and rustup keep the toolchain and the crates' sources: `CARGO_HOME` and
