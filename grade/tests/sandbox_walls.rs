@@ -110,3 +110,26 @@ fn a_killed_grader_leaves_no_build_process_running() {
     let _ = std::fs::remove_dir_all(&dir);
     assert!(!written, "a process of the build outlived the grader");
 }
+
+/// Cargo reads the `.cargo/config.toml` of every folder above the tree it builds and stops on one
+/// it cannot read: a scratch tree below the instructor's repository (the default work folder) must
+/// still build inside the walls.
+#[test]
+fn a_build_below_a_cargo_config_reads_it() {
+    let dir = std::env::temp_dir().join(format!("raylab-config-{}", std::process::id()));
+    let tree = dir.join("work/tree");
+    std::fs::create_dir_all(dir.join(".cargo")).unwrap();
+    std::fs::create_dir_all(tree.join("src")).unwrap();
+    std::fs::write(dir.join(".cargo/config.toml"), "[alias]\nx = \"build\"\n").unwrap();
+    std::fs::write(tree.join("Cargo.toml"), "[package]\nname = \"t\"\nversion = \"0.1.0\"\n[workspace]\n")
+        .unwrap();
+    std::fs::write(tree.join("src/lib.rs"), "").unwrap();
+    let target = dir.join("target");
+    let mut cargo = std::process::Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()));
+    cargo.current_dir(&tree).args(["locate-project"]).env("CARGO_TARGET_DIR", &target);
+    let limit = std::time::Duration::from_secs(60);
+    raylab_grade::sandbox::set_launcher(launcher().to_path_buf());
+    let run = raylab_grade::child::run_build(cargo, limit, &tree, &target).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(run.success(), "{}", run.stderr);
+}
