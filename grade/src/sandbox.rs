@@ -327,7 +327,10 @@ mod tests {
         let envs: Vec<_> = wrapped.get_envs().collect();
         assert!(envs.contains(&(std::ffi::OsStr::new("TMPDIR"), Some(std::ffi::OsStr::new("own")))));
         assert!(envs.contains(&(std::ffi::OsStr::new("A"), Some(std::ffi::OsStr::new("1")))));
-        assert!(envs.iter().all(|(k, _)| ["TMPDIR", "A", "PATH"].contains(&k.to_str().unwrap())), "{envs:?}");
+        // A run gets nothing of the grader's environment but PATH.
+        let run = wrap(Path::new("/grader"), &command, &Walls { profile: Profile::Run, ..walls }, &[]);
+        let names: Vec<_> = run.get_envs().map(|(k, _)| k.to_str().unwrap().to_string()).collect();
+        assert!(names.iter().all(|k| ["TMPDIR", "A", "PATH"].contains(&k.as_str())), "{names:?}");
     }
 
     #[test]

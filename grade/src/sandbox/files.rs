@@ -67,11 +67,31 @@ pub fn restrict(walls: &Walls, program: &OsString) -> Result<RulesetStatus, Stri
     Ok(status.ruleset)
 }
 
-/// The `.cargo` folders of the ancestors of `paths`: cargo reads every ancestor's
-/// `.cargo/config.toml` and stops with "permission denied" on one it cannot (a scratch tree
-/// below the instructor's repository, the default `target/grader-submission`).
+/// The `.cargo` folders of `paths` and their ancestors, and the vendored sources their
+/// configuration names: cargo reads every such `.cargo/config.toml` and stops with "permission
+/// denied" on one it cannot (a scratch tree below the instructor's repository, the default
+/// `target/grader-submission`), and the Gradescope autograder's crates are vendored beside the
+/// instructor's tree (`[source.vendored] directory = ...`).
 fn cargo_configs(paths: &[PathBuf]) -> Vec<PathBuf> {
-    paths.iter().flat_map(|p| p.ancestors().skip(1).map(|a| a.join(".cargo"))).collect()
+    let folders: Vec<PathBuf> = paths.iter().flat_map(|p| p.ancestors().map(|a| a.to_path_buf())).collect();
+    let mut found = Vec::new();
+    for folder in folders {
+        let cargo = folder.join(".cargo");
+        for config in ["config.toml", "config"].map(|name| cargo.join(name)) {
+            found.extend(vendored(&config).into_iter().map(|dir| folder.join(dir)));
+        }
+        found.push(cargo);
+    }
+    found
+}
+
+/// The `directory` of every `[source.NAME]` of a cargo configuration file, as written (a
+/// relative one is relative to the folder holding `.cargo/`).
+fn vendored(config: &std::path::Path) -> Vec<PathBuf> {
+    let Ok(text) = std::fs::read_to_string(config) else { return Vec::new() };
+    let Ok(table) = text.parse::<toml::Table>() else { return Vec::new() };
+    let sources = table.get("source").and_then(|s| s.as_table()).into_iter().flat_map(|s| s.values());
+    sources.filter_map(|s| s.get("directory")?.as_str().map(PathBuf::from)).collect()
 }
 
 /// Where cargo and rustup keep the toolchain and the crates' sources: `CARGO_HOME` and
@@ -81,4 +101,25 @@ fn toolchain() -> Vec<PathBuf> {
     let or =
         |var: &str, default: &str| std::env::var_os(var).map(PathBuf::from).unwrap_or(home.join(default));
     vec![or("CARGO_HOME", ".cargo"), or("RUSTUP_HOME", ".rustup")]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A build reads the `.cargo` folders above its tree and the vendored sources they name.
+    #[test]
+    fn a_build_reads_cargo_configs_above_it_and_their_vendored_sources() {
+        let dir = std::env::temp_dir().join(format!("raylab-vendored-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("repo/.cargo")).unwrap();
+        let config =
+            "[source.crates-io]\nreplace-with = \"v\"\n[source.v]\ndirectory = \"/autograder/vendor\"\n";
+        std::fs::write(dir.join("repo/.cargo/config.toml"), config).unwrap();
+        let reads = cargo_configs(&[dir.join("repo/work/tree")]);
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(reads.contains(&PathBuf::from("/autograder/vendor")), "{reads:?}");
+        assert!(
+            reads.contains(&dir.join("repo/.cargo")) && reads.contains(&dir.join("repo/work/tree/.cargo"))
+        );
+    }
 }
