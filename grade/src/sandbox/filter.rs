@@ -133,11 +133,11 @@ fn refusals(fd: libc::c_int, pid: u64) -> Result<BTreeMap<i64, Vec<SeccompRule>>
         libc::SYS_pidfd_send_signal,
         libc::SYS_setsid,
         libc::SYS_setpgid,
-        libc::SYS_setrlimit,
     ];
     rules.extend(ALWAYS.map(|call| (call, Vec::new())));
     rules.extend(always.map(|call| (call, Vec::new())));
+    // Calls only x86_64 has (aarch64 forks with `clone` and limits with `prlimit64`).
     #[cfg(target_arch = "x86_64")]
-    rules.extend([libc::SYS_fork, libc::SYS_vfork].map(|call| (call, Vec::new())));
+    rules.extend([libc::SYS_fork, libc::SYS_vfork, libc::SYS_setrlimit].map(|call| (call, Vec::new())));
     Ok(rules)
 }
