@@ -124,9 +124,10 @@ pub fn set_launcher(executable: PathBuf) {
     let _ = LAUNCHER.set(executable);
 }
 
-/// The launcher, if one is set and this platform has walls.
+/// The launcher, if one is set and this platform has walls (Linux on the two architectures the
+/// seccomp filter is written for).
 pub fn launcher_path() -> Option<&'static Path> {
-    if cfg!(target_os = "linux") {
+    if cfg!(all(target_os = "linux", any(target_arch = "x86_64", target_arch = "aarch64"))) {
         LAUNCHER.get().map(PathBuf::as_path)
     } else {
         None
