@@ -97,6 +97,7 @@ mod tests {
             stderr: stderr.to_string(),
             seconds: 0.0,
             limits: None,
+            wrote_too_much: false,
         };
         let message = first_error(&run, Duration::from_secs(1));
         assert_eq!(

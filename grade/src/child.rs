@@ -14,6 +14,10 @@ use std::time::{Duration, Instant};
 
 use crate::sandbox::{Profile, Walls};
 
+pub mod written;
+
+use written::{Budget, Watch};
+
 /// Set in every child the grader starts; a grader that finds it refuses to start children of
 /// its own, so a test that runs the grader can never recurse.
 pub const CHILD_ENV: &str = "RAYLAB_GRADER_CHILD";
@@ -28,17 +32,30 @@ pub struct Limits {
     pub memory: u64,
     /// Largest file the child may write, in bytes (`RLIMIT_FSIZE`).
     pub file_size: u64,
+    /// What it may add to the folders it may write, over all files ([`written`]).
+    pub written: Budget,
 }
 
 impl Limits {
     /// For graded code (renders, unit tests): 4 GiB of address space (a correct render needs a
-    /// few hundred MiB, thread stacks and allocator arenas included), files of at most 64 MiB.
-    pub const GRADED: Option<Limits> = Some(Limits { memory: 4 << 30, file_size: 64 << 20 });
+    /// few hundred MiB, thread stacks and allocator arenas included), files of at most 64 MiB,
+    /// 256 MiB and 1,000 entries in all (a render writes one image of at most a few MiB; the
+    /// checkpoint tests write none).
+    pub const GRADED: Option<Limits> = Some(Limits {
+        memory: 4 << 30,
+        file_size: 64 << 20,
+        written: Budget { bytes: 256 << 20, entries: 1_000 },
+    });
 
     /// For each process of a build (cargo, rustc, the linker): 4 GiB of address space (rustc
     /// needs under 1 GiB for the renderer; a 128 MiB `static` took 2.8 GB), files of at most 1 GiB
-    /// (the largest the renderer's build writes is under 200 MB).
-    pub const BUILD: Option<Limits> = Some(Limits { memory: 4 << 30, file_size: 1 << 30 });
+    /// (the largest the renderer's build writes is under 200 MB), BUILD_BYTES and BUILD_ENTRIES
+    /// in all (a cold build of the renderer and its tests writes BUILD_COLD).
+    pub const BUILD: Option<Limits> = Some(Limits {
+        memory: 4 << 30,
+        file_size: 1 << 30,
+        written: Budget { bytes: 8 << 30, entries: 50_000 },
+    });
 }
 
 /// How a child ended.
@@ -54,6 +71,8 @@ pub struct ChildRun {
     pub seconds: f64,
     /// The limits it ran under.
     pub limits: Option<Limits>,
+    /// Whether it was stopped for filling its folders past [`Limits::written`].
+    pub wrote_too_much: bool,
 }
 
 impl ChildRun {
@@ -75,6 +94,11 @@ impl ChildRun {
     }
 
     fn classify(&self, limit: Duration) -> (Category, Option<String>) {
+        if let (true, Some(limits)) = (self.wrote_too_much, self.limits) {
+            let Budget { bytes, entries } = limits.written;
+            let detail = format!("its files passed {} MiB or {entries} entries in all", bytes >> 20);
+            return (Category::TooMuchOutput, Some(detail));
+        }
         let Some(status) = self.status else {
             return (Category::OutOfTime, Some(format!("the limit is {:.0} s", limit.as_secs_f64())));
         };
@@ -253,10 +277,10 @@ pub fn run_build(command: Command, limit: Duration, tree: &Path, target: &Path) 
 fn run_walled(mut command: Command, limit: Duration, walls: Walls) -> std::io::Result<ChildRun> {
     command.env("TMPDIR", &walls.write[0]);
     let Some(launcher) = crate::sandbox::launcher_path() else {
-        return run_limited(command, limit, Some(walls.limits));
+        return run_watched(command, limit, Some(walls.limits), Some((&walls.write, walls.limits.written)));
     };
     let wrapped = crate::sandbox::wrap(launcher, &command, &walls, &crate::sandbox::left_out());
-    let mut run = run_limited(wrapped, limit, None)?;
+    let mut run = run_watched(wrapped, limit, None, Some((&walls.write, walls.limits.written)))?;
     run.limits = Some(walls.limits);
     Ok(run)
 }
@@ -276,10 +300,18 @@ pub fn run_with_limit(command: Command, limit: Duration) -> std::io::Result<Chil
 }
 
 /// [`run_with_limit`] with resource limits (see [`Limits::GRADED`]).
-pub fn run_limited(
+pub fn run_limited(command: Command, limit: Duration, limits: Option<Limits>) -> std::io::Result<ChildRun> {
+    run_watched(command, limit, limits, None)
+}
+
+/// [`run_limited`], the child stopped when the folders of `written` grow past its budget: that
+/// one is always the grader's to watch ([`written`]); the other limits are applied here when
+/// `limits` is given, by the launcher otherwise.
+fn run_watched(
     mut command: Command,
     limit: Duration,
     limits: Option<Limits>,
+    written: Option<(&[PathBuf], Budget)>,
 ) -> std::io::Result<ChildRun> {
     static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
     let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -295,6 +327,8 @@ pub fn run_limited(
         .env("RUST_LIB_BACKTRACE", "0");
     #[cfg(unix)]
     isolate(&mut command, limit, limits);
+    let mut watch = written.map(|(folders, budget)| Watch::start(folders, budget));
+    let mut wrote_too_much = false;
     let start = Instant::now();
     let mut child = command.spawn()?;
     let status = loop {
@@ -302,6 +336,10 @@ pub fn run_limited(
             break Some(status);
         }
         if start.elapsed() >= limit {
+            break None;
+        }
+        if watch.as_mut().is_some_and(Watch::exceeded) {
+            wrote_too_much = true;
             break None;
         }
         std::thread::sleep(Duration::from_millis(10));
@@ -316,7 +354,8 @@ pub fn run_limited(
         let bytes = std::fs::read(p).unwrap_or_default();
         String::from_utf8_lossy(&bytes[..bytes.len().min(1 << 20)]).into_owned()
     };
-    let run = ChildRun { status, stdout: read(&out_path), stderr: read(&err_path), seconds, limits };
+    let (stdout, stderr) = (read(&out_path), read(&err_path));
+    let run = ChildRun { status, stdout, stderr, seconds, limits, wrote_too_much };
     let _ = std::fs::remove_file(out_path);
     let _ = std::fs::remove_file(err_path);
     Ok(run)
@@ -400,13 +439,38 @@ mod tests {
 
     #[test]
     fn grader_limits_the_size_of_files_a_graded_child_writes() {
-        let limits = Some(Limits { memory: 4 << 30, file_size: 1 << 20 });
+        let limits = Some(Limits { file_size: 1 << 20, ..Limits::GRADED.unwrap() });
         let path = std::env::temp_dir().join(format!("raylab-big-{}", std::process::id()));
         let script = format!("head -c 4000000 /dev/zero > {}", path.display());
         let run = run_limited(sh(&script), Duration::from_secs(10), limits).unwrap();
         let size = std::fs::metadata(&path).map_or(0, |m| m.len());
         let _ = std::fs::remove_file(&path);
         assert!(!run.success() && size <= 1 << 20, "wrote {size} bytes");
+    }
+
+    /// 300 files of 1 MiB, each under the per-file limit, pass a 64 MiB budget: the child is
+    /// stopped near it, with the reason a report gives.
+    #[test]
+    fn grader_bounds_what_a_graded_child_writes_in_all() {
+        let own = OwnFolder::new().unwrap();
+        let limits = Limits { written: Budget { bytes: 64 << 20, entries: 1_000 }, ..Limits::GRADED.unwrap() };
+        let script = format!(
+            "for i in $(seq 300); do head -c 1048576 /dev/zero > {}/$i; done",
+            own.path().display()
+        );
+        let limit = Duration::from_secs(60);
+        let walls = Walls {
+            profile: Profile::Run,
+            read: Vec::new(),
+            write: vec![own.path().to_path_buf()],
+            limits,
+            cpu_seconds: 60,
+        };
+        let run = run_walled(sh(&script), limit, walls).unwrap();
+        let written = std::fs::read_dir(own.path()).unwrap().count();
+        assert!(run.wrote_too_much && !run.success(), "{run:?}");
+        assert!((64..300).contains(&written), "{written} files of 1 MiB left");
+        assert_eq!(run.failure(limit).to_string(), "wrote too much output: its files passed 64 MiB or 1000 entries in all");
     }
 
     /// What a child writes reaches a report on one clean line of at most 200 characters, and
@@ -427,7 +491,7 @@ mod tests {
         let mut head = Command::new("head");
         head.args(["-c", "3000000", "/dev/zero"]);
         let too_much =
-            run_limited(head, limit, Some(Limits { memory: 4 << 30, file_size: 1 << 20 })).unwrap();
+            run_limited(head, limit, Some(Limits { file_size: 1 << 20, ..Limits::GRADED.unwrap() })).unwrap();
         assert_eq!(too_much.failure(limit).category, Category::TooMuchOutput);
     }
 }

@@ -236,7 +236,7 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
         profile: Profile::Run,
         read: Vec::new(),
         write: Vec::new(),
-        limits: Limits { memory: 0, file_size: 0 },
+        limits: Limits { memory: 0, file_size: 0, written: crate::child::written::Budget { bytes: 0, entries: 0 } },
         cpu_seconds: 0,
     };
     let (mut parent, mut without) = (0, Vec::new());
@@ -307,7 +307,7 @@ mod tests {
             profile: Profile::Build,
             read: vec![PathBuf::from("/scenes"), PathBuf::from("/bin/x")],
             write: vec![PathBuf::from("own")],
-            limits: Limits { memory: 4 << 30, file_size: 64 << 20 },
+            limits: Limits::GRADED.unwrap(),
             cpu_seconds: 40,
         };
         let mut command = Command::new("/bin/render");
@@ -320,7 +320,8 @@ mod tests {
         // A relative folder is made absolute: the launcher starts in the child's working folder.
         assert_eq!(launch.walls.write, [std::env::current_dir().unwrap().join("own")]);
         assert_eq!(launch.walls.profile, Profile::Build);
-        assert_eq!(launch.walls.limits, walls.limits);
+        assert_eq!(launch.walls.limits.memory, walls.limits.memory);
+        assert_eq!(launch.walls.limits.file_size, walls.limits.file_size);
         assert_eq!(launch.walls.cpu_seconds, 40);
         assert_eq!(launch.parent, std::process::id());
         assert_eq!(launch.program, ["/bin/render", "scene.toml", "--spp", "4"].map(OsString::from));
