@@ -253,6 +253,7 @@ pub fn run_graded(
         write: vec![own.path().to_path_buf()],
         limits: Limits::GRADED.expect("graded code has limits"),
         cpu_seconds: cpu_seconds(limit),
+        user: None,
     };
     run_walled(command, limit, walls)
 }
@@ -269,18 +270,27 @@ pub fn run_build(command: Command, limit: Duration, tree: &Path, target: &Path) 
         write: vec![own.path().to_path_buf(), target.to_path_buf()],
         limits: Limits::BUILD.expect("builds have limits"),
         cpu_seconds: cpu_seconds(limit),
+        user: None,
     };
     run_walled(command, limit, walls)
 }
 
 /// `command` inside `walls` if a launcher is set, else with their limits only; `TMPDIR` is the
 /// first folder it may write.
-fn run_walled(mut command: Command, limit: Duration, walls: Walls) -> std::io::Result<ChildRun> {
+fn run_walled(mut command: Command, limit: Duration, mut walls: Walls) -> std::io::Result<ChildRun> {
     command.env("TMPDIR", &walls.write[0]);
     let Some(launcher) = crate::sandbox::launcher_path() else {
         return run_watched(command, limit, Some(walls.limits), Some((&walls.write, walls.limits.written)));
     };
-    let wrapped = crate::sandbox::wrap(launcher, &command, &walls, &crate::sandbox::left_out());
+    let without = crate::sandbox::left_out();
+    walls.user = crate::sandbox::user_for(&walls, &command, &without);
+    #[cfg(target_os = "linux")]
+    if let Some(uid) = walls.user {
+        for folder in &walls.write {
+            crate::sandbox::user::give(folder, uid, true)?;
+        }
+    }
+    let wrapped = crate::sandbox::wrap(launcher, &command, &walls, &without);
     let mut run = run_watched(wrapped, limit, None, Some((&walls.write, walls.limits.written)))?;
     run.limits = Some(walls.limits);
     Ok(run)
@@ -454,11 +464,10 @@ mod tests {
     #[test]
     fn grader_bounds_what_a_graded_child_writes_in_all() {
         let own = OwnFolder::new().unwrap();
-        let limits = Limits { written: Budget { bytes: 64 << 20, entries: 1_000 }, ..Limits::GRADED.unwrap() };
-        let script = format!(
-            "for i in $(seq 300); do head -c 1048576 /dev/zero > {}/$i; done",
-            own.path().display()
-        );
+        let limits =
+            Limits { written: Budget { bytes: 64 << 20, entries: 1_000 }, ..Limits::GRADED.unwrap() };
+        let script =
+            format!("for i in $(seq 300); do head -c 1048576 /dev/zero > {}/$i; done", own.path().display());
         let limit = Duration::from_secs(60);
         let walls = Walls {
             profile: Profile::Run,
@@ -466,12 +475,16 @@ mod tests {
             write: vec![own.path().to_path_buf()],
             limits,
             cpu_seconds: 60,
+            user: None,
         };
         let run = run_walled(sh(&script), limit, walls).unwrap();
         let written = std::fs::read_dir(own.path()).unwrap().count();
         assert!(run.wrote_too_much && !run.success(), "{run:?}");
         assert!((64..300).contains(&written), "{written} files of 1 MiB left");
-        assert_eq!(run.failure(limit).to_string(), "wrote too much output: its files passed 64 MiB or 1000 entries in all");
+        assert_eq!(
+            run.failure(limit).to_string(),
+            "wrote too much output: its files passed 64 MiB or 1000 entries in all"
+        );
     }
 
     /// What a child writes reaches a report on one clean line of at most 200 characters, and

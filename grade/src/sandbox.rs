@@ -44,6 +44,8 @@ pub mod filter;
 pub mod launcher;
 #[cfg(target_os = "linux")]
 pub mod probe;
+#[cfg(target_os = "linux")]
+pub mod user;
 
 /// The first argument that makes the grader's executable the launcher.
 pub const LAUNCH: &str = "__sandbox";
@@ -74,6 +76,8 @@ pub struct Walls {
     pub limits: Limits,
     /// CPU seconds, over all its threads.
     pub cpu_seconds: u64,
+    /// The user it runs as, where the grader is root ([`user`]); `None`: the grader's own.
+    pub user: Option<u32>,
 }
 
 /// One wall, as the launcher's `--without` names it (test builds only).
@@ -85,11 +89,13 @@ pub enum Wall {
     Landlock,
     /// The resource limits.
     Limits,
+    /// A user of its own where the grader is root: files, signals, tracing.
+    User,
 }
 
 impl Wall {
     /// Every wall.
-    pub const ALL: [Wall; 3] = [Wall::Seccomp, Wall::Landlock, Wall::Limits];
+    pub const ALL: [Wall; 4] = [Wall::Seccomp, Wall::Landlock, Wall::Limits, Wall::User];
 
     /// Its name on the command line.
     pub fn name(self) -> &'static str {
@@ -97,6 +103,7 @@ impl Wall {
             Wall::Seccomp => "seccomp",
             Wall::Landlock => "landlock",
             Wall::Limits => "limits",
+            Wall::User => "user",
         }
     }
 }
@@ -134,7 +141,19 @@ pub fn launcher_path() -> Option<&'static Path> {
     }
 }
 
-/// Test builds only: the walls named in `RAYLAB_SANDBOX_WITHOUT` (`seccomp,landlock,limits`) are
+/// The user a process of `walls` running `command` changes to, unless the user wall is left out
+/// in `without` or this machine cannot have it ([`user::for_launch`]).
+pub fn user_for(walls: &Walls, command: &Command, without: &[Wall]) -> Option<u32> {
+    #[cfg(target_os = "linux")]
+    if launcher_path().is_some() && !without.contains(&Wall::User) {
+        let program = on_path(command.get_program());
+        return user::for_launch(walls, &program, command.get_current_dir()).ok();
+    }
+    let _ = (walls, command, without);
+    None
+}
+
+/// Test builds only: the walls named in `RAYLAB_SANDBOX_WITHOUT` (`seccomp,landlock,limits,user`) are
 /// left out of every graded process, to measure what each one stops. Release builds have none.
 pub fn left_out() -> Vec<Wall> {
     let names = if cfg!(debug_assertions) {
@@ -172,6 +191,9 @@ pub fn wrap(launcher: &Path, command: &Command, walls: &Walls, without: &[Wall])
         wrapped.arg(flag).arg(value.to_string());
     }
     wrapped.arg("--parent").arg(std::process::id().to_string());
+    if let Some(uid) = walls.user {
+        wrapped.arg("--user").arg(uid.to_string());
+    }
     for wall in without {
         wrapped.arg("--without").arg(wall.name());
     }
@@ -208,7 +230,7 @@ fn kept(key: &std::ffi::OsStr, profile: Profile) -> bool {
 }
 
 /// `program` found on `PATH` when it is a bare name (`cargo`): the launcher opens it by path.
-fn on_path(program: &std::ffi::OsStr) -> PathBuf {
+pub(crate) fn on_path(program: &std::ffi::OsStr) -> PathBuf {
     let name = Path::new(program);
     if name.components().count() != 1 {
         return name.to_path_buf();
@@ -236,8 +258,13 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
         profile: Profile::Run,
         read: Vec::new(),
         write: Vec::new(),
-        limits: Limits { memory: 0, file_size: 0, written: crate::child::written::Budget { bytes: 0, entries: 0 } },
+        limits: Limits {
+            memory: 0,
+            file_size: 0,
+            written: crate::child::written::Budget { bytes: 0, entries: 0 },
+        },
         cpu_seconds: 0,
+        user: None,
     };
     let (mut parent, mut without) = (0, Vec::new());
     let mut args = args.iter();
@@ -253,6 +280,7 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
             "--file-size" => walls.limits.file_size = number(args.next())?,
             "--cpu" => walls.cpu_seconds = number(args.next())?,
             "--parent" => parent = number(args.next())? as u32,
+            "--user" => walls.user = Some(number(args.next())? as u32),
             "--without" => {
                 let name = args.next().and_then(|v| v.to_str()).unwrap_or("");
                 let wall = Wall::ALL.into_iter().find(|w| w.name() == name);
@@ -279,9 +307,9 @@ pub struct Measured {
     pub line: String,
     /// Whether the wall held.
     pub holds: bool,
-    /// Whether grading someone else's code needs it. Every wall is, but the file wall
-    /// (Landlock), whose other half, a dedicated unprivileged user for root, is not built yet:
-    /// until then a machine without Landlock grades with a warning rather than not at all.
+    /// Whether grading someone else's code needs it: every probe's wall is (the file wall holds
+    /// by Landlock, or where the grader is root by the graded user); which user a build runs as
+    /// is information.
     pub required: bool,
 }
 
@@ -309,6 +337,7 @@ mod tests {
             write: vec![PathBuf::from("own")],
             limits: Limits::GRADED.unwrap(),
             cpu_seconds: 40,
+            user: Some(61_001),
         };
         let mut command = Command::new("/bin/render");
         command.args(["scene.toml", "--spp", "4"]).env("A", "1").current_dir("/work");
@@ -323,6 +352,7 @@ mod tests {
         assert_eq!(launch.walls.limits.memory, walls.limits.memory);
         assert_eq!(launch.walls.limits.file_size, walls.limits.file_size);
         assert_eq!(launch.walls.cpu_seconds, 40);
+        assert_eq!(launch.walls.user, Some(61_001));
         assert_eq!(launch.parent, std::process::id());
         assert_eq!(launch.program, ["/bin/render", "scene.toml", "--spp", "4"].map(OsString::from));
         assert_eq!(wrapped.get_current_dir(), Some(Path::new("/work")));

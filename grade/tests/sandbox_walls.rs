@@ -19,6 +19,8 @@ fn outside() -> (PathBuf, PathBuf) {
     std::fs::create_dir_all(&dir).unwrap();
     let secret = dir.join("hidden-reference.png");
     std::fs::write(&secret, "secret").unwrap();
+    // As the grader leaves the hidden references where it is root: readable by their owner only.
+    std::fs::set_permissions(&secret, std::os::unix::fs::PermissionsExt::from_mode(0o600)).unwrap();
     (secret, dir.join("written.txt"))
 }
 
@@ -48,8 +50,9 @@ fn every_wall_refuses_what_it_is_for_and_only_it() {
         if (walled, open) != expected {
             wrong.push(format!("{}: walled {walled}, without {:?} {open}", attempt.name(), attempt.walls()));
         }
-        // Each wall alone that is meant for it refuses it too.
-        for &wall in attempt.walls() {
+        // Each wall alone that is meant for it refuses it too (the user wall exists for root only).
+        let here = |w: &&Wall| **w != Wall::User || raylab_grade::sandbox::user::is_root();
+        for &wall in attempt.walls().iter().filter(here) {
             let others: Vec<Wall> = attempt.walls().iter().copied().filter(|&w| w != wall).collect();
             if allowed(launcher(), attempt, &arg, &others).unwrap() {
                 wrong.push(format!("{}: {wall:?} alone does not refuse it", attempt.name()));

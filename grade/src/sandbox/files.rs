@@ -96,7 +96,7 @@ fn vendored(config: &std::path::Path) -> Vec<PathBuf> {
 
 /// Where cargo and rustup keep the toolchain and the crates' sources: `CARGO_HOME` and
 /// `RUSTUP_HOME`, by default `~/.cargo` and `~/.rustup`.
-fn toolchain() -> Vec<PathBuf> {
+pub(super) fn toolchain() -> Vec<PathBuf> {
     let home = std::env::var_os("HOME").map(PathBuf::from).unwrap_or_default();
     let or =
         |var: &str, default: &str| std::env::var_os(var).map(PathBuf::from).unwrap_or(home.join(default));

@@ -5,11 +5,14 @@
 //! 2. Open the program and move its descriptor to number `n`, close-on-exec; set the descriptor
 //!    limit to `n`, so no descriptor numbered `n` or above can be made again (`dup2`, `fcntl` and
 //!    `open` all respect it). After the exec, `n` is closed and cannot be reopened.
-//! 3. Resource limits (`RLIMIT_AS`, `RLIMIT_FSIZE`, `RLIMIT_CPU`, `RLIMIT_CORE` = 0).
-//! 4. Landlock ([`super::files`]).
-//! 5. The seccomp filter ([`super::filter`]), which lets `execveat` through for descriptor `n`
+//! 3. Resource limits (`RLIMIT_AS`, `RLIMIT_FSIZE`, `RLIMIT_CPU`, `RLIMIT_CORE` = 0, and for a
+//!    graded user `RLIMIT_NPROC`).
+//! 4. Where the grader is root, the graded user ([`user`]), and step 1 again (changing user
+//!    clears the parent-death signal).
+//! 5. Landlock ([`super::files`]).
+//! 6. The seccomp filter ([`super::filter`]), which lets `execveat` through for descriptor `n`
 //!    only, and refuses every limit change from here on.
-//! 6. `execveat(n, "", argv, envp, AT_EMPTY_PATH)`.
+//! 7. `execveat(n, "", argv, envp, AT_EMPTY_PATH)`.
 //!
 //! A build's launcher forks first and does all this in its child, staying as the supervisor that
 //! takes the build's compilers down with it ([`supervise`]).
@@ -20,7 +23,7 @@
 use std::ffi::{CString, OsString};
 use std::os::unix::ffi::OsStrExt;
 
-use super::{files, filter, parse_launch, Launch, Profile, Wall};
+use super::{files, filter, parse_launch, user, Launch, Profile, Wall};
 
 /// Exit status of a launcher that could not raise its walls.
 pub const FAILED: u8 = 125;
@@ -112,6 +115,10 @@ fn exec_inside(launch: &Launch, parent: u32) -> Result<(), String> {
     if on(Wall::Limits) {
         set_limits(launch)?;
     }
+    if let Some(uid) = launch.walls.user {
+        user::become_user(uid)?;
+        die_with(parent, libc::SIGKILL)?;
+    }
     if on(Wall::Landlock) {
         files::restrict(&launch.walls, &launch.program[0])?;
     }
@@ -176,7 +183,9 @@ fn set_limits(launch: &Launch) -> Result<(), String> {
         (libc::RLIMIT_CPU, walls.cpu_seconds),
         (libc::RLIMIT_CORE, 0),
     ];
-    for (resource, value) in pairs {
+    // Counted per user, so it binds only a graded user's processes; root's are the grader's.
+    let processes = walls.user.map(|_| (libc::RLIMIT_NPROC, user::PROCESSES));
+    for (resource, value) in pairs.into_iter().chain(processes) {
         let rlimit = libc::rlimit { rlim_cur: value as libc::rlim_t, rlim_max: value as libc::rlim_t };
         // SAFETY: setrlimit only reads the struct it is given.
         if unsafe { libc::setrlimit(resource, &rlimit) } != 0 {

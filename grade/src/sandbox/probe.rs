@@ -87,8 +87,9 @@ impl Attempt {
         match self {
             Attempt::ExecShell | Attempt::ExecSelf | Attempt::Fork | Attempt::Udp => &[Wall::Seccomp],
             Attempt::Setpgid => &[Wall::Seccomp],
-            Attempt::Tcp | Attempt::Signal | Attempt::Ptrace => &[Wall::Seccomp, Wall::Landlock],
-            Attempt::Read | Attempt::Write => &[Wall::Landlock],
+            Attempt::Tcp => &[Wall::Seccomp, Wall::Landlock],
+            Attempt::Signal | Attempt::Ptrace => &[Wall::Seccomp, Wall::Landlock, Wall::User],
+            Attempt::Read | Attempt::Write => &[Wall::Landlock, Wall::User],
             Attempt::Allocate => &[Wall::Limits],
             Attempt::Thread => &[],
         }
@@ -187,7 +188,13 @@ pub fn allowed_in(
         write: vec![own.clone()],
         limits: Limits::GRADED.expect("graded limits"),
         cpu_seconds: 10,
+        user: None,
     };
+    let walls = Walls { user: super::user_for(&walls, &probe, without), ..walls };
+    if let Some(uid) = walls.user {
+        super::user::give(&own, uid, true)
+            .map_err(|e| format!("cannot give {} to the graded user: {e}", own.display()))?;
+    }
     let run = run_with_limit(wrap(launcher, &probe, &walls, without), Duration::from_secs(20));
     let _ = std::fs::remove_dir_all(&own);
     let run = run.map_err(|e| e.to_string())?;
@@ -215,6 +222,8 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
     };
     let secret = outside.join("secret.txt");
     let _ = std::fs::write(&secret, "secret");
+    // As the grader leaves the hidden references (`user::close_hidden`): readable by their owner.
+    let _ = std::fs::set_permissions(&secret, std::os::unix::fs::PermissionsExt::from_mode(0o600));
     let listener = std::net::TcpListener::bind("127.0.0.1:0").ok();
     let tcp = listener.as_ref().and_then(|l| l.local_addr().ok()).map(|a| a.to_string()).unwrap_or_default();
     let me = std::process::id().to_string();
@@ -234,8 +243,7 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
     let mut lines: Vec<Measured> = cases
         .into_iter()
         .map(|(attempt, arg, what)| {
-            // The file wall is Landlock's, which some kernels lack: see `Measured::required`.
-            let required = !attempt.walls().contains(&Wall::Landlock) || attempt.walls().len() > 1;
+            let required = true;
             let (line, holds) = match allowed(launcher, attempt, &arg, &[]) {
                 Ok(false) => (format!("refused: {what}"), true),
                 Ok(true) => (format!("ALLOWED: {what}"), false),
@@ -250,6 +258,37 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
         Err(e) => (e, false),
     };
     lines.push(Measured { line, holds, required: true });
+    lines.extend(users(launcher));
     let _ = std::fs::remove_dir_all(&outside);
     lines
+}
+
+/// Which user graded code and builds run as: informative (the probes above measure what the user
+/// wall stops); a build that stays root is not a missing wall where Landlock holds.
+fn users(launcher: &Path) -> Vec<Measured> {
+    let walls = |profile| Walls {
+        profile,
+        read: Vec::new(),
+        write: Vec::new(),
+        limits: Limits::GRADED.expect("graded limits"),
+        cpu_seconds: 0,
+        user: None,
+    };
+    let cargo = super::on_path(std::ffi::OsStr::new("cargo"));
+    let cases = [
+        ("graded code", walls(Profile::Run), launcher.to_path_buf()),
+        ("builds", walls(Profile::Build), cargo),
+    ];
+    cases
+        .into_iter()
+        .map(|(what, walls, program)| match super::user::for_launch(&walls, &program, None) {
+            Ok(uid) => {
+                Measured { line: format!("{what} run as user {uid}, not root"), holds: true, required: false }
+            }
+            Err(why) if !super::user::is_root() => Measured { line: why, holds: true, required: false },
+            Err(why) => {
+                Measured { line: format!("{what} run as root: {why}"), holds: false, required: false }
+            }
+        })
+        .collect()
 }

@@ -171,32 +171,37 @@ fn main() -> ExitCode {
     }
 }
 
-/// `grader sandbox --check`: one line per wall; exit 1 if one is missing.
+/// `grader sandbox --check`: one line per wall; exit 1 if a required one is missing.
 fn sandbox_check() -> ExitCode {
     let measured = sandbox::check();
     for wall in &measured {
         println!("{}", wall.line);
     }
-    match measured.iter().filter(|w| !w.holds).count() {
-        0 => {
-            println!("grader: every wall holds: graded code may run here");
-            ExitCode::SUCCESS
+    let missing = |required: bool| measured.iter().filter(|w| !w.holds && w.required == required).count();
+    match (missing(true), missing(false)) {
+        (0, 0) => println!("grader: every wall holds: graded code may run here"),
+        (0, n) => {
+            println!("grader: every required wall holds: graded code may run here ({n} more would be better)")
         }
-        n => {
+        (n, _) => {
             println!("grader: {n} wall(s) missing (docs/THREAT_MODEL.md says what each one stops)");
-            ExitCode::from(1)
+            return ExitCode::from(1);
         }
     }
+    ExitCode::SUCCESS
 }
 
 /// Grading someone else's code from the instructor's tree (`root` has no starter manifest) needs
 /// the walls, unless `--no-sandbox` (which still raises every wall the machine has): they are
-/// measured first; a missing required one stops the command, a missing file wall is a warning
-/// ([`sandbox::Measured::required`]). A student grading their own tree is never refused.
+/// measured first; a missing required one stops the command, any other is a warning
+/// ([`sandbox::Measured::required`]). Where the grader is root, the hidden references are closed
+/// to every other user first. A student grading their own tree is never refused.
 fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
     if root.join(raylab_grade::baseline::STARTER_MANIFEST).is_file() {
         return Ok(());
     }
+    #[cfg(target_os = "linux")]
+    sandbox::user::close_hidden(root).map_err(|e| format!("cannot close the hidden references: {e}"))?;
     let missing: Vec<sandbox::Measured> = sandbox::check().into_iter().filter(|w| !w.holds).collect();
     for wall in &missing {
         eprintln!("grader: sandbox: {}", wall.line);
