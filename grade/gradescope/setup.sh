@@ -8,13 +8,21 @@ set -euo pipefail
 ROOT="${AUTOGRADER_ROOT:-/autograder}"
 SRC="$ROOT/source"
 
-if ! command -v cargo > /dev/null && [ ! -x "$HOME/.cargo/bin/cargo" ]; then
-    echo "setup: installing Rust (rustup, minimal profile)"
+# Rust goes under /usr/local, readable by all: graded builds run as a user of their own, which
+# cannot read rustup's default under /root (docs/THREAT_MODEL.md, "The user wall"). A toolchain
+# already in the image is used where it is (under /root, builds stay root inside the other walls).
+export PATH="$PATH:$HOME/.cargo/bin"
+if ! command -v cargo > /dev/null && [ ! -x /usr/local/cargo/bin/cargo ]; then
+    echo "setup: installing Rust (rustup, minimal profile) under /usr/local"
     apt-get update -q
     apt-get install -y -q --no-install-recommends curl ca-certificates gcc libc6-dev
-    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal
+    export CARGO_HOME=/usr/local/cargo RUSTUP_HOME=/usr/local/rustup
+    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal --no-modify-path
+    chmod -R a+rX "$CARGO_HOME" "$RUSTUP_HOME"
 fi
-export PATH="$HOME/.cargo/bin:$PATH"
+if [ -x /usr/local/cargo/bin/cargo ]; then
+    export CARGO_HOME=/usr/local/cargo RUSTUP_HOME=/usr/local/rustup PATH="/usr/local/cargo/bin:$PATH"
+fi
 
 # Crates come from vendor/, never from the network; the graded builds (scratch copies of this
 # tree, .cargo/ included) read the same configuration.
