@@ -16,6 +16,10 @@
 //! - **files** (Landlock, [`files`]): read the system's libraries, the program, and the folders
 //!   the caller names; write only the child's own folder. Landlock also scopes signals and
 //!   abstract sockets to the sandbox where the kernel has it (ABI 6).
+//! - **user** ([`user`]): where the grader is root, graded code runs as a user of its own that
+//!   owns nothing but its folders.
+//! - **bytes written** ([`crate::child::written`]): the grader stops a child whose folders grow
+//!   past a budget, over all files.
 //! - **resources** (rlimits, [`crate::child::Limits`]): address space, CPU time, file size,
 //!   no core dumps.
 //! - **lifetime**: the launcher asks to be killed when the grader's thread that started it ends
