@@ -115,8 +115,8 @@ impl Wall {
 /// The walls missing on this machine when someone else's code is graded here anyway.
 static MISSING: OnceLock<Vec<String>> = OnceLock::new();
 
-/// Records the walls `grader submission DIR` or `grader batch` found missing and graded without
-/// (the file wall, or any with `--no-sandbox`), for [`missing_note`].
+/// Records the required walls `grader submission DIR` or `grader batch` found missing and graded
+/// without (`--no-sandbox`), for [`missing_note`].
 pub fn note_missing(lines: Vec<String>) {
     let _ = MISSING.set(lines);
 }

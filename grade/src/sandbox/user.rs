@@ -33,6 +33,11 @@ pub fn is_root() -> bool {
     unsafe { libc::geteuid() == 0 }
 }
 
+/// Whether a run of `program`, the machine's temporary folder its own, changes user here.
+pub fn runs_as_user(program: &Path) -> bool {
+    is_root() && readable_by_all(program) && readable_by_all(&std::env::temp_dir())
+}
+
 /// The user a process of `profile` with `program`, working in `cwd`, runs as inside `walls`;
 /// `Err` says why it cannot change user (not root, or something it needs is not readable by all).
 pub fn for_launch(walls: &Walls, program: &Path, cwd: Option<&Path>) -> Result<u32, String> {
