@@ -9,6 +9,11 @@
 //! `expected.toml` commits to), each over a planted full-marks results.json; then a grader that
 //! writes full marks everywhere and is killed (the 0-point fallback). Prints the time of each
 //! step (docs/PERFORMANCE.md).
+//!
+//! With `--emulate`, every script runs as in Gradescope's container (Docker's defaults: no
+//! CAP_SYS_ADMIN, no namespaces or mounts; `tools/gradescope-emulation.sh`), on the solution and
+//! `crashes`, the hostile fixture that takes longest: the same points, and the walls printed into
+//! the instructor's log, never into results.json.
 
 use std::path::Path;
 use std::process::Command;
@@ -28,10 +33,11 @@ enum Want {
     Fixture(fixture::Expected),
 }
 
-/// Packages, sets up and grades four submissions in a scratch Gradescope root.
-pub fn gradescope_dry_run() -> Result<(), String> {
+/// Packages, sets up and grades four submissions in a scratch Gradescope root (two, `emulate`d).
+pub fn gradescope_dry_run(emulate: bool) -> Result<(), String> {
     let root = repository();
-    let work = root.join("target/gradescope-dry-run");
+    let work = root.join(if emulate { "target/gradescope-emulated" } else { "target/gradescope-dry-run" });
+    let scripts = Scripts { emulation: emulate.then(|| root.join("tools/gradescope-emulation.sh")) };
     let autograder = work.join("autograder");
     if work.exists() {
         std::fs::remove_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
@@ -45,7 +51,7 @@ pub fn gradescope_dry_run() -> Result<(), String> {
     run("unzip", Command::new("unzip").arg("-q").arg(&zip).arg("-d").arg(&source))?;
 
     let started = Instant::now();
-    run("setup.sh", &mut gradescope_command(&autograder, "setup.sh"))?;
+    run("setup.sh", &mut scripts.command(&autograder, "setup.sh"))?;
     println!(
         "setup.sh: {:.0} s (the grader built, the solution graded once)",
         started.elapsed().as_secs_f64()
@@ -55,7 +61,9 @@ pub fn gradescope_dry_run() -> Result<(), String> {
     let starter_points = Rubric::of_tree(root)?.checkpoints[0].test_points;
     let submission = autograder.join("submission");
     let mut problems = Vec::new();
-    for name in ["solution", "starter", "crashes", "cheats"] {
+    let names: &[&str] =
+        if emulate { &["solution", "crashes"] } else { &["solution", "starter", "crashes", "cheats"] };
+    for &name in names {
         if submission.exists() {
             std::fs::remove_dir_all(&submission).map_err(|e| format!("{}: {e}", submission.display()))?;
         }
@@ -75,7 +83,7 @@ pub fn gradescope_dry_run() -> Result<(), String> {
         // What a graded process could leave where Gradescope reads the result: replaced.
         plant_full_marks(&autograder.join("results/results.json"))?;
         let started = Instant::now();
-        run("run_autograder", &mut gradescope_command(&autograder, "run_autograder"))?;
+        run("run_autograder", &mut scripts.command(&autograder, "run_autograder"))?;
         let seconds = started.elapsed().as_secs_f64();
         let path = autograder.join("results/results.json");
         let text = std::fs::read_to_string(&path).map_err(|e| format!("{name}: {}: {e}", path.display()))?;
@@ -83,6 +91,9 @@ pub fn gradescope_dry_run() -> Result<(), String> {
             serde_json::from_str(&text).map_err(|e| format!("{name}: results.json: {e}"))?;
         let score = results["score"].as_f64().unwrap_or(-1.0);
         println!("run_autograder {name}: {score} points in {seconds:.0} s");
+        if text.contains("refused: ") || text.contains("sandbox") {
+            problems.push(format!("{name}: results.json speaks of the sandbox's walls: {text}"));
+        }
         match want {
             Want::Total(want) if (score - want).abs() > 0.011 => {
                 problems.push(format!("{name}: {score} points, expected {want}"))
@@ -93,7 +104,7 @@ pub fn gradescope_dry_run() -> Result<(), String> {
             }
         }
     }
-    problems.extend(killed_grader(&autograder, &work)?);
+    problems.extend(killed_grader(&scripts, &autograder, &work)?);
     if problems.is_empty() {
         Ok(())
     } else {
@@ -109,7 +120,7 @@ fn plant_full_marks(path: &Path) -> Result<(), String> {
 
 /// A grader that writes full marks both where it was told and where Gradescope reads, then dies
 /// as a killed one does: the student gets the 0-point fallback.
-fn killed_grader(autograder: &Path, work: &Path) -> Result<Option<String>, String> {
+fn killed_grader(scripts: &Scripts, autograder: &Path, work: &Path) -> Result<Option<String>, String> {
     let fake = work.join("killed-grader");
     let grader = fake.join("release/grader");
     std::fs::create_dir_all(grader.parent().unwrap_or(&fake))
@@ -125,7 +136,7 @@ kill -KILL $$
 "#;
     std::fs::write(&grader, script).map_err(|e| format!("{}: {e}", grader.display()))?;
     run("chmod", Command::new("chmod").arg("+x").arg(&grader))?;
-    run("run_autograder", gradescope_command(autograder, "run_autograder").env("CARGO_TARGET_DIR", &fake))?;
+    run("run_autograder", scripts.command(autograder, "run_autograder").env("CARGO_TARGET_DIR", &fake))?;
     let path = autograder.join("results/results.json");
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let results: serde_json::Value = serde_json::from_str(&text).map_err(|e| format!("results.json: {e}"))?;
@@ -135,16 +146,31 @@ kill -KILL $$
         .then(|| format!("a killed grader: {text}, expected the 0-point fallback")))
 }
 
-/// One of Gradescope's scripts, run as Gradescope runs it but below `autograder`.
-fn gradescope_command(autograder: &Path, script: &str) -> Command {
-    let mut command = Command::new("bash");
-    command
-        .arg(autograder.join("source").join(script))
-        .current_dir(autograder.join("source"))
-        .env("AUTOGRADER_ROOT", autograder)
-        .env_remove("CARGO_TARGET_DIR")
-        .env_remove(raylab_grade::child::CHILD_ENV);
-    command
+/// How Gradescope's scripts are started: directly, or through the container's emulation.
+struct Scripts {
+    /// `tools/gradescope-emulation.sh`, for `--emulate`.
+    emulation: Option<std::path::PathBuf>,
+}
+
+impl Scripts {
+    /// One of Gradescope's scripts, run as Gradescope runs it but below `autograder`.
+    fn command(&self, autograder: &Path, script: &str) -> Command {
+        let mut command = match &self.emulation {
+            Some(emulation) => {
+                let mut command = Command::new(emulation);
+                command.arg("bash");
+                command
+            }
+            None => Command::new("bash"),
+        };
+        command
+            .arg(autograder.join("source").join(script))
+            .current_dir(autograder.join("source"))
+            .env("AUTOGRADER_ROOT", autograder)
+            .env_remove("CARGO_TARGET_DIR")
+            .env_remove(raylab_grade::child::CHILD_ENV);
+        command
+    }
 }
 
 fn run(what: &str, command: &mut Command) -> Result<(), String> {

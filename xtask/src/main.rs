@@ -57,7 +57,12 @@ enum Command {
     },
     /// Package the tree for Gradescope, unpack it in a scratch root, run setup.sh, and
     /// run_autograder on the solution, the starter and two hostile submissions.
-    GradescopeDryRun,
+    GradescopeDryRun {
+        /// Run setup.sh and run_autograder as in Gradescope's container
+        /// (tools/gradescope-emulation.sh), on the solution and the worst hostile submission.
+        #[arg(long)]
+        emulate: bool,
+    },
 }
 
 /// Every checkpoint that has solution regions or tests.
@@ -72,7 +77,7 @@ fn main() -> ExitCode {
         Command::Zoo => zoo::zoo(),
         Command::FirstBuild => first_build::first_build(),
         Command::StudentLoop { runs } => student_loop::student_loop(runs),
-        Command::GradescopeDryRun => gradescope::gradescope_dry_run(),
+        Command::GradescopeDryRun { emulate } => gradescope::gradescope_dry_run(emulate),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
