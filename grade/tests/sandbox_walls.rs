@@ -41,27 +41,59 @@ fn argument(attempt: Attempt, tcp: &str) -> String {
 fn every_wall_refuses_what_it_is_for_and_only_it() {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let tcp = listener.local_addr().unwrap().to_string();
-    let mut wrong = Vec::new();
-    for attempt in Attempt::ALL {
-        let arg = argument(attempt, &tcp);
-        let walled = allowed(launcher(), attempt, &arg, &[]).unwrap();
-        let open = allowed(launcher(), attempt, &arg, attempt.walls()).unwrap();
-        let expected = (attempt.walls().is_empty(), true);
-        if (walled, open) != expected {
-            wrong.push(format!("{}: walled {walled}, without {:?} {open}", attempt.name(), attempt.walls()));
-        }
-        // Each wall alone that is meant for it refuses it too (the user wall exists for root only,
-        // and where the probe's program is readable by all).
-        let here = |w: &&Wall| **w != Wall::User || raylab_grade::sandbox::user::runs_as_user(launcher());
-        for &wall in attempt.walls().iter().filter(here) {
-            let others: Vec<Wall> = attempt.walls().iter().copied().filter(|&w| w != wall).collect();
-            if allowed(launcher(), attempt, &arg, &others).unwrap() {
-                wrong.push(format!("{}: {wall:?} alone does not refuse it", attempt.name()));
-            }
-        }
-    }
+    let wrong: Vec<String> =
+        Attempt::ALL.into_iter().flat_map(|a| held_by(a, &argument(a, &tcp), a.walls())).collect();
     let (_, written) = outside();
     let _ = std::fs::remove_dir_all(written.parent().unwrap());
+    assert!(wrong.is_empty(), "{wrong:#?}");
+}
+
+/// What is wrong with the claim that `walls` refuse `attempt` with `arg`: allowed with every wall
+/// up, refused with exactly those left out, or allowed with one of them alone (the user wall
+/// exists for root only, and where the probe's program is readable by all).
+fn held_by(attempt: Attempt, arg: &str, walls: &[Wall]) -> Vec<String> {
+    let mut wrong = Vec::new();
+    let walled = allowed(launcher(), attempt, arg, &[]).unwrap();
+    let open = allowed(launcher(), attempt, arg, walls).unwrap();
+    if (walled, open) != (walls.is_empty(), true) {
+        wrong.push(format!("{} {arg}: walled {walled}, without {walls:?} {open}", attempt.name()));
+    }
+    let here = |w: &&Wall| **w != Wall::User || raylab_grade::sandbox::user::runs_as_user(launcher());
+    for &wall in walls.iter().filter(here) {
+        let others: Vec<Wall> = walls.iter().copied().filter(|&w| w != wall).collect();
+        if allowed(launcher(), attempt, arg, &others).unwrap() {
+            wrong.push(format!("{} {arg}: {wall:?} alone does not refuse it", attempt.name()));
+        }
+    }
+    wrong
+}
+
+/// What graded code reads and writes, each with the walls that stop it: the user wall stops only
+/// what is not open to all (the hidden references, once the grader has closed them; the grader's
+/// environment); the solution's source in a scratch tree and the grader's command line are
+/// Landlock's alone (docs/THREAT_MODEL.md).
+#[test]
+fn each_file_a_submission_wants_is_refused_by_its_walls() {
+    let dir = std::env::temp_dir().join(format!("raylab-reads-{}", std::process::id()));
+    let (source, build) = (dir.join("tree/src/geometry/triangle.rs"), dir.join("target/debug"));
+    std::fs::create_dir_all(source.parent().unwrap()).unwrap();
+    std::fs::create_dir_all(&build).unwrap();
+    std::fs::write(&source, "// BEGIN SOLUTION").unwrap();
+    let me = std::process::id();
+    let (landlock, both) = (&[Wall::Landlock][..], &[Wall::Landlock, Wall::User][..]);
+    // A hidden reference, as the grader leaves it where it is root: readable by its owner only.
+    let secret = dir.join("hidden-reference.png");
+    std::fs::write(&secret, "secret").unwrap();
+    std::fs::set_permissions(&secret, std::os::unix::fs::PermissionsExt::from_mode(0o600)).unwrap();
+    let cases = [
+        (Attempt::Read, secret.display().to_string(), both),
+        (Attempt::Read, source.display().to_string(), landlock),
+        (Attempt::Read, format!("/proc/{me}/cmdline"), landlock),
+        (Attempt::Read, format!("/proc/{me}/environ"), both),
+        (Attempt::Write, build.join("render").display().to_string(), both),
+    ];
+    let wrong: Vec<String> = cases.iter().flat_map(|(a, arg, walls)| held_by(*a, arg, walls)).collect();
+    let _ = std::fs::remove_dir_all(&dir);
     assert!(wrong.is_empty(), "{wrong:#?}");
 }
 
