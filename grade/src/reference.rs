@@ -51,10 +51,7 @@ pub struct ReferenceEntry {
 }
 
 /// The reference folders, public and hidden, relative to the repository root.
-pub const REFERENCE_DIRS: [&str; 2] = ["reference", HIDDEN_REFERENCE_DIR];
-
-/// Where the hidden references are, in the instructor's tree.
-pub const HIDDEN_REFERENCE_DIR: &str = "hidden/reference";
+pub const REFERENCE_DIRS: [&str; 2] = ["reference", "hidden/reference"];
 
 /// The folder of a scene's reference, relative to the repository root.
 pub(crate) fn reference_dir(hidden: bool) -> &'static str {

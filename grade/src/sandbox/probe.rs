@@ -222,7 +222,8 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
     };
     let secret = outside.join("secret.txt");
     let _ = std::fs::write(&secret, "secret");
-    // As the grader leaves the hidden references (`user::close_hidden`): readable by their owner.
+    // As the grader leaves the hidden references (`user::close_instructor_only`): readable by
+    // their owner only.
     let _ = std::fs::set_permissions(&secret, std::os::unix::fs::PermissionsExt::from_mode(0o600));
     let listener = std::net::TcpListener::bind("127.0.0.1:0").ok();
     let tcp = listener.as_ref().and_then(|l| l.local_addr().ok()).map(|a| a.to_string()).unwrap_or_default();

@@ -3,7 +3,7 @@
 //! and write anywhere. Each graded process runs instead as a user of its own that owns nothing on
 //! the machine: a build as [`BUILD_UID`], a render or a unit test as [`RUN_UID`]. The run user
 //! cannot write what the build user made (the binaries a batch reuses), and neither can read a
-//! file that is not readable by all (the grader closes the hidden references, [`close_hidden`]),
+//! file that is not readable by all (the grader closes the solution's source and the hidden files, [`close_instructor_only`]),
 //! signal or trace the grader, or raise a limit.
 //!
 //! The ids have no name in `/etc/passwd` and need none (as the IOI's `isolate` does). A graded
@@ -104,13 +104,21 @@ pub fn become_user(uid: u32) -> Result<(), String> {
     Ok(())
 }
 
-/// Closes the tree's hidden references to everyone but their owner (mode 700 on the folder):
-/// they are the one thing a graded process could copy into a mark. Only root can give the
-/// grader's files to another user, so only then does this matter; the mode is not tracked by git.
-pub fn close_hidden(root: &Path) -> std::io::Result<()> {
-    let hidden = root.join(crate::reference::HIDDEN_REFERENCE_DIR);
-    if is_root() && hidden.is_dir() {
-        std::fs::set_permissions(&hidden, std::fs::Permissions::from_mode(0o700))?;
+/// What of the instructor's tree the starter does not ship: the solution's source and the hidden
+/// files (references, scenes, tests, rubric).
+pub const INSTRUCTOR_ONLY: [&str; 3] =
+    ["src", crate::baseline::HIDDEN_DIRS[0], crate::baseline::HIDDEN_DIRS[1]];
+
+/// Closes [`INSTRUCTOR_ONLY`] of the instructor's tree at `root` to everyone but its owner (mode
+/// 700 on each folder), before a submission is graded from it: the hidden references are what a
+/// graded process could copy into a mark. Graded code never needs them: it is built from a
+/// scratch copy, and reads that copy's scenes. Only root's graded code runs as another user, so
+/// only then does this matter; git does not track a folder's mode.
+pub fn close_instructor_only(root: &Path) -> std::io::Result<()> {
+    for folder in INSTRUCTOR_ONLY.map(|f| root.join(f)).iter().filter(|f| f.is_dir()) {
+        if is_root() {
+            std::fs::set_permissions(folder, std::fs::Permissions::from_mode(0o700))?;
+        }
     }
     Ok(())
 }
@@ -137,5 +145,20 @@ mod tests {
         set("open.txt", 0o600).unwrap();
         assert!(!readable_by_all(&dir.join("open.txt")));
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Root closes the solution's source and the hidden files, and nothing the graded code reads.
+    #[test]
+    fn root_closes_what_the_starter_does_not_ship() {
+        let root = std::env::temp_dir().join(format!("raylab-close-{}", std::process::id()));
+        for folder in ["src", "hidden/reference", "tests/hidden", "scenes"] {
+            std::fs::create_dir_all(root.join(folder)).unwrap();
+        }
+        close_instructor_only(&root).unwrap();
+        let closed = |f: &str| !readable_by_all(&root.join(f));
+        let expected = is_root();
+        assert_eq!(["src", "hidden/reference", "tests/hidden"].map(closed), [expected; 3]);
+        assert!(!closed("scenes"));
+        let _ = std::fs::remove_dir_all(&root);
     }
 }

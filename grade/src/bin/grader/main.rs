@@ -194,14 +194,15 @@ fn sandbox_check() -> ExitCode {
 /// Grading someone else's code from the instructor's tree (`root` has no starter manifest) needs
 /// the walls, unless `--no-sandbox` (which still raises every wall the machine has): they are
 /// measured first; a missing required one stops the command, any other is a warning
-/// ([`sandbox::Measured::required`]). Where the grader is root, the hidden references are closed
-/// to every other user first. A student grading their own tree is never refused.
+/// ([`sandbox::Measured::required`]). Where the grader is root, the solution's source and the
+/// hidden files are closed to every other user first. A student grading their own tree is never refused.
 fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
     if root.join(raylab_grade::baseline::STARTER_MANIFEST).is_file() {
         return Ok(());
     }
     #[cfg(target_os = "linux")]
-    sandbox::user::close_hidden(root).map_err(|e| format!("cannot close the hidden references: {e}"))?;
+    sandbox::user::close_instructor_only(root)
+        .map_err(|e| format!("cannot close the instructor's files: {e}"))?;
     let missing: Vec<sandbox::Measured> = sandbox::check().into_iter().filter(|w| !w.holds).collect();
     for wall in &missing {
         eprintln!("grader: sandbox: {}", wall.line);
