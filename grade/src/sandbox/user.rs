@@ -3,8 +3,8 @@
 //! and write anywhere. Each graded process runs instead as a user of its own that owns nothing on
 //! the machine: a build as [`BUILD_UID`], a render or a unit test as [`RUN_UID`]. The run user
 //! cannot write what the build user made (the binaries a batch reuses), and neither can read a
-//! file that is not readable by all (the grader closes the solution's source and the hidden files, [`close_instructor_only`]),
-//! signal or trace the grader, or raise a limit.
+//! file that is not readable by all (the grader closes the solution's source and the hidden
+//! files, [`close_instructor_only`]), signal or trace the grader, or raise a limit.
 //!
 //! The ids have no name in `/etc/passwd` and need none (as the IOI's `isolate` does). A graded
 //! process can only run as such a user if what it needs is readable by all: its program, its
