@@ -277,19 +277,13 @@ pub fn run_build(command: Command, limit: Duration, tree: &Path, target: &Path) 
 
 /// `command` inside `walls` if a launcher is set, else with their limits only; `TMPDIR` is the
 /// first folder it may write.
-fn run_walled(mut command: Command, limit: Duration, mut walls: Walls) -> std::io::Result<ChildRun> {
+fn run_walled(mut command: Command, limit: Duration, walls: Walls) -> std::io::Result<ChildRun> {
     command.env("TMPDIR", &walls.write[0]);
     let Some(launcher) = crate::sandbox::launcher_path() else {
         return run_watched(command, limit, Some(walls.limits), Some((&walls.write, walls.limits.written)));
     };
     let without = crate::sandbox::left_out();
-    walls.user = crate::sandbox::user_for(&walls, &command, &without);
-    #[cfg(target_os = "linux")]
-    if let Some(uid) = walls.user {
-        for folder in &walls.write {
-            crate::sandbox::user::give(folder, uid, true)?;
-        }
-    }
+    let walls = crate::sandbox::with_user(walls, &command, &without)?;
     let wrapped = crate::sandbox::wrap(launcher, &command, &walls, &without);
     let mut run = run_watched(wrapped, limit, None, Some((&walls.write, walls.limits.written)))?;
     run.limits = Some(walls.limits);
@@ -342,6 +336,9 @@ fn run_watched(
     let mut wrote_too_much = false;
     let start = Instant::now();
     let mut child = command.spawn()?;
+    if let Some(watch) = watch.as_mut() {
+        watch.follow(child.id());
+    }
     let status = loop {
         if let Some(status) = child.try_wait()? {
             break Some(status);
@@ -485,6 +482,29 @@ mod tests {
             run.failure(limit).to_string(),
             "wrote too much output: its files passed 64 MiB or 1000 entries in all"
         );
+    }
+
+    /// Files opened and unlinked hold disk that no walk of the folder sees: the bytes the child
+    /// wrote count anyway.
+    #[test]
+    fn grader_counts_what_a_graded_child_writes_into_unlinked_files() {
+        let own = OwnFolder::new().unwrap();
+        let limits =
+            Limits { written: Budget { bytes: 64 << 20, entries: 1_000 }, ..Limits::GRADED.unwrap() };
+        let script = format!(
+            "cd {}; for i in $(seq 30); do exec 3>f; rm f; head -c 10485760 /dev/zero >&3; done",
+            own.path().display()
+        );
+        let walls = Walls {
+            profile: Profile::Run,
+            read: Vec::new(),
+            write: vec![own.path().to_path_buf()],
+            limits,
+            cpu_seconds: 60,
+            user: None,
+        };
+        let run = run_walled(sh(&script), Duration::from_secs(60), walls).unwrap();
+        assert!(run.wrote_too_much && !run.success(), "{run:?}");
     }
 
     /// What a child writes reaches a report on one clean line of at most 200 characters, and

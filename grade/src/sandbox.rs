@@ -145,16 +145,21 @@ pub fn launcher_path() -> Option<&'static Path> {
     }
 }
 
-/// The user a process of `walls` running `command` changes to, unless the user wall is left out
-/// in `without` or this machine cannot have it ([`user::for_launch`]).
-pub fn user_for(walls: &Walls, command: &Command, without: &[Wall]) -> Option<u32> {
+/// `walls` with the user a process running `command` changes to, unless the user wall is left
+/// out in `without` or this machine cannot have it ([`user::for_launch`]); the folders it may
+/// write are given to that user.
+pub fn with_user(walls: Walls, command: &Command, without: &[Wall]) -> std::io::Result<Walls> {
     #[cfg(target_os = "linux")]
     if launcher_path().is_some() && !without.contains(&Wall::User) {
         let program = on_path(command.get_program());
-        return user::for_launch(walls, &program, command.get_current_dir()).ok();
+        let Ok(uid) = user::for_launch(&walls, &program, command.get_current_dir()) else { return Ok(walls) };
+        for folder in &walls.write {
+            user::give(folder, uid, true)?;
+        }
+        return Ok(Walls { user: Some(uid), ..walls });
     }
-    let _ = (walls, command, without);
-    None
+    let _ = (command, without);
+    Ok(walls)
 }
 
 /// Test builds only: the walls named in `RAYLAB_SANDBOX_WITHOUT` (`seccomp,landlock,limits,user`) are

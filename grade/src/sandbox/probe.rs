@@ -190,11 +190,8 @@ pub fn allowed_in(
         cpu_seconds: 10,
         user: None,
     };
-    let walls = Walls { user: super::user_for(&walls, &probe, without), ..walls };
-    if let Some(uid) = walls.user {
-        super::user::give(&own, uid, true)
-            .map_err(|e| format!("cannot give {} to the graded user: {e}", own.display()))?;
-    }
+    let walls = super::with_user(walls, &probe, without)
+        .map_err(|e| format!("cannot give {} to the graded user: {e}", own.display()))?;
     let run = run_with_limit(wrap(launcher, &probe, &walls, without), Duration::from_secs(20));
     let _ = std::fs::remove_dir_all(&own);
     let run = run.map_err(|e| e.to_string())?;
@@ -244,13 +241,12 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
     let mut lines: Vec<Measured> = cases
         .into_iter()
         .map(|(attempt, arg, what)| {
-            let required = true;
             let (line, holds) = match allowed(launcher, attempt, &arg, &[]) {
                 Ok(false) => (format!("refused: {what}"), true),
                 Ok(true) => (format!("ALLOWED: {what}"), false),
                 Err(e) => (e, false),
             };
-            Measured { line, holds, required }
+            Measured { line, holds, required: true }
         })
         .collect();
     let (line, holds) = match allowed(launcher, Attempt::Thread, "", &[]) {
