@@ -339,7 +339,7 @@ fn run_watched(
     if let Some(watch) = watch.as_mut() {
         watch.follow(child.id());
     }
-    let status = loop {
+    let mut status = loop {
         if let Some(status) = child.try_wait()? {
             break Some(status);
         }
@@ -352,6 +352,9 @@ fn run_watched(
         }
         std::thread::sleep(Duration::from_millis(10));
     };
+    if status.is_some() && watch.as_ref().is_some_and(Watch::left_too_much) {
+        (wrote_too_much, status) = (true, None);
+    }
     // The child and everything it started: a test binary under cargo, a thread-holding grandchild.
     #[cfg(unix)]
     kill_group(child.id());
@@ -457,14 +460,17 @@ mod tests {
     }
 
     /// 300 files of 1 MiB, each under the per-file limit, pass a 64 MiB budget: the child is
-    /// stopped near it, with the reason a report gives.
+    /// stopped near it, with the reason a report gives. It pauses 10 ms a file, so the whole
+    /// takes at least 3 s and the watch looks a dozen times before it could end.
     #[test]
     fn grader_bounds_what_a_graded_child_writes_in_all() {
         let own = OwnFolder::new().unwrap();
         let limits =
             Limits { written: Budget { bytes: 64 << 20, entries: 1_000 }, ..Limits::GRADED.unwrap() };
-        let script =
-            format!("for i in $(seq 300); do head -c 1048576 /dev/zero > {}/$i; done", own.path().display());
+        let script = format!(
+            "for i in $(seq 300); do head -c 1048576 /dev/zero > {}/$i; sleep 0.01; done",
+            own.path().display()
+        );
         let limit = Duration::from_secs(60);
         let walls = Walls {
             profile: Profile::Run,
@@ -484,15 +490,15 @@ mod tests {
         );
     }
 
-    /// Files opened and unlinked hold disk that no walk of the folder sees: the bytes the child
-    /// wrote count anyway.
+    /// Files opened and unlinked hold disk that no walk of the folder sees (until the child ends,
+    /// so this one holds seven of 10 MiB open): the bytes the child wrote count anyway.
     #[test]
     fn grader_counts_what_a_graded_child_writes_into_unlinked_files() {
         let own = OwnFolder::new().unwrap();
         let limits =
             Limits { written: Budget { bytes: 64 << 20, entries: 1_000 }, ..Limits::GRADED.unwrap() };
         let script = format!(
-            "cd {}; for i in $(seq 30); do exec 3>f; rm f; head -c 10485760 /dev/zero >&3; done",
+            "cd {}; for i in 3 4 5 6 7 8 9; do eval \"exec $i>f\"; rm f; head -c 10485760 /dev/zero >&$i; done; sleep 30",
             own.path().display()
         );
         let walls = Walls {
@@ -504,7 +510,34 @@ mod tests {
             user: None,
         };
         let run = run_walled(sh(&script), Duration::from_secs(60), walls).unwrap();
-        assert!(run.wrote_too_much && !run.success(), "{run:?}");
+        assert!(run.wrote_too_much && run.seconds < 30.0, "{run:?}");
+        assert!(std::fs::read_dir(own.path()).unwrap().next().is_none(), "the files were unlinked");
+    }
+
+    /// A child that ends before the first look is measured once more: what it left behind counts,
+    /// what it wrote and removed again does not.
+    #[test]
+    fn grader_measures_what_a_quick_child_left_behind() {
+        let own = OwnFolder::new().unwrap();
+        let file = own.path().join("big");
+        std::fs::write(&file, vec![1u8; 2 << 20]).unwrap();
+        let limits = Limits { written: Budget { bytes: 1 << 20, entries: 1_000 }, ..Limits::GRADED.unwrap() };
+        let run = |script: String| {
+            let walls = Walls {
+                profile: Profile::Run,
+                read: Vec::new(),
+                write: vec![own.path().to_path_buf()],
+                limits,
+                cpu_seconds: 60,
+                user: None,
+            };
+            run_walled(sh(&script), Duration::from_secs(60), walls).unwrap()
+        };
+        let copy = format!("cp {0} {0}.copy", file.display());
+        let removed = run(format!("{copy}; rm {}.copy", file.display()));
+        assert!(removed.success(), "{removed:?}");
+        let left = run(copy);
+        assert!(left.wrote_too_much && !left.success() && left.seconds < 0.25, "{left:?}");
     }
 
     /// What a child writes reaches a report on one clean line of at most 200 characters, and
