@@ -48,6 +48,15 @@ impl Film {
         &self.pixels
     }
 
+    /// Adds `weight` times `other`, a film of the same size, to every pixel: `1 / n` for each of
+    /// `n` films added to a black one gives their mean.
+    pub fn add_scaled(&mut self, other: &Film, weight: f32) {
+        assert_eq!((self.width, self.height), (other.width, other.height), "films of different sizes");
+        for (p, q) in self.pixels.iter_mut().zip(&other.pixels) {
+            *p += *q * weight;
+        }
+    }
+
     fn index(&self, x: u32, y: u32) -> usize {
         debug_assert!(x < self.width && y < self.height, "pixel ({x}, {y}) outside the film");
         y as usize * self.width as usize + x as usize

@@ -16,7 +16,7 @@ use indicatif::ProgressBar;
 use crate::cargo::{build_renderer, BUILD_TIME_LIMIT};
 use crate::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
 use crate::features::Masks;
-use crate::images::read_png;
+use crate::images::{film_to_image, read_png};
 use crate::metrics::{Comparison, Measured};
 use crate::noisy::{compare, graded_seed, tile_means, NoisyReference, NoisyVerdict};
 use crate::points::{explain_stub_stop, scene_status, score_checkpoint, Context, TestRuns};
@@ -280,12 +280,13 @@ impl std::ops::AddAssign for Phases {
 impl GradeReport {
     /// Points earned, the extras' not included.
     pub fn score(&self) -> f64 {
-        self.counted(false).map(CheckpointResult::score).sum()
+        // Folded from +0: an empty `sum` of floats is -0, which prints as "-0".
+        self.counted(false).fold(0.0, |s, c| s + c.score())
     }
 
     /// Points available, the extras' not included.
     pub fn max_score(&self) -> f64 {
-        self.counted(false).map(|c| c.max_score(self.tests_ran)).sum()
+        self.counted(false).fold(0.0, |m, c| m + c.max_score(self.tests_ran))
     }
 
     /// The extras' points earned and available, reported beside the total.
@@ -332,12 +333,16 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     let start = Instant::now();
     let root = &options.root;
     let rubric = Rubric::of_tree(root)?;
-    let checkpoints: Vec<&Checkpoint> = rubric
+    let mut checkpoints: Vec<&Checkpoint> = rubric
         .checkpoints
         .iter()
         .filter(|c| options.checkpoints.as_ref().is_none_or(|ids| ids.contains(&c.id)))
         .collect();
     let scenes = selected_scenes(&rubric, options, &checkpoints)?;
+    // Scenes named alone grade the checkpoints they grade, not every checkpoint with no scene.
+    if options.scenes.is_some() && options.checkpoints.is_none() {
+        checkpoints.retain(|c| scenes.iter().any(|s| s.grades.contains(&c.id)));
+    }
     let manifest = Manifest::load(root, &rubric)?;
     for scene in &scenes {
         manifest.fresh_entry(root, scene)?;
@@ -615,8 +620,8 @@ fn score(
 }
 
 /// The tile test of a noisy scene ([`crate::noisy`]): `test.renders` renders with the seeds
-/// [`graded_seed`] of `base`, their tile means against the reference's; the first render is the
-/// one shown, with its SSIM against the reference image as a diagnostic.
+/// [`graded_seed`] of `base`, their tile means against the reference's; their mean is the image
+/// shown, as the reference is a mean too, with its SSIM against the reference as a diagnostic.
 fn tile_test(
     child: &Child,
     result: &mut SceneResult,
@@ -627,7 +632,7 @@ fn tile_test(
 ) -> Result<Scored, String> {
     let scene = &result.scene;
     let mut means = Vec::new();
-    let mut shown = None;
+    let mut mean: Option<Film> = None;
     for k in 0..test.renders {
         progress.set_message(format!("rendering {} ({} of {})", scene.name, k + 1, test.renders));
         let (rendered, seconds) = child
@@ -640,10 +645,10 @@ fn tile_test(
             return Err(format!("the render is {}x{}, the reference {w}x{h}", film.width(), film.height()));
         }
         means.push(tile_means(&film, test.tile));
-        shown.get_or_insert(rendered.image);
+        mean.get_or_insert_with(|| Film::new(w, h)).add_scaled(&film, 1.0 / test.renders as f32);
     }
     let verdict = compare(&means, tiles, test.alpha);
-    let render = shown.ok_or("no render")?;
+    let render = film_to_image(&mean.ok_or("no render")?);
     let ssim = SsimMap::new(&render, &result.reference).map_err(|e| format!("{e} (render vs reference)"))?;
     let measured = [
         Measured { value: verdict.failures.len() as f64, passed: verdict.passed() },
@@ -652,4 +657,24 @@ fn tile_test(
     let checks = scene.graded_checks().into_iter().zip(measured).collect();
     result.tiles = Some(verdict);
     Ok((render, checks, ssim))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// With no counted checkpoint (only extras graded) the total reads "0.0 / 0", not "-0.0 / -0":
+    /// a float `sum` of nothing is negative zero.
+    #[test]
+    fn an_empty_total_is_a_plain_zero() {
+        let report = GradeReport {
+            checkpoints: Vec::new(),
+            scenes: Vec::new(),
+            tests_ran: false,
+            needed: Vec::new(),
+            seconds: 0.0,
+            phases: Phases::default(),
+        };
+        assert_eq!(format!("{:.1} / {:.0}", report.score(), report.max_score()), "0.0 / 0");
+    }
 }

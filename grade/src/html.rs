@@ -8,14 +8,15 @@ use base64::Engine;
 use image::RgbImage;
 
 use crate::grading::{GradeReport, SceneResult, SceneStatus};
-use crate::heatmap::{heatmap, tile_map};
+use crate::heatmap::heatmap;
 use crate::noisy::{tile_origin, NoisyVerdict};
 use crate::rubric::TileTest;
+use crate::tile_map::{tile_map, LEGEND};
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background:#fafafa;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\
 .pass{color:#176f2c;font-weight:bold}.fail{color:#b3261e;font-weight:bold}.wait{color:#666;font-weight:bold}\
-.images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}img{width:256px;image-rendering:pixelated;border:1px solid #ccc}\
+.images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}figcaption{max-width:256px}img{width:256px;image-rendering:pixelated;border:1px solid #ccc}\
 td:last-child{max-width:60em;overflow-wrap:anywhere}.missing{width:256px;height:256px;background:#eee;display:flex;align-items:center;justify-content:center;color:#777}\
 section{background:#fff;padding:1em 1.5em;margin:1.5em 0;border-radius:6px;box-shadow:0 1px 3px #0002}\
 .hint{background:#fff6d5;padding:.5em 1em;border-left:4px solid #e0b400}";
@@ -80,22 +81,23 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
     } else {
         h.push_str("<div class=\"images\">");
         figure(h, "reference", Some(&s.reference));
+        let mean =
+            s.scene.tile_test.as_ref().map(|t| format!("yours: the mean of your {} renders", t.renders));
         let yours = match (&s.render, &s.status) {
             (None, SceneStatus::NotCounted(_)) => "yours: no image yet",
             (None, _) => "yours: the render failed (below)",
-            (Some(_), _) => "yours",
+            (Some(_), _) => mean.as_deref().unwrap_or("yours"),
         };
         figure(h, yours, s.render.as_ref());
-        let diff = s.ssim.as_ref().map(|ssim| heatmap(ssim, &s.reference));
-        match (&s.tiles, &s.scene.tile_test) {
-            (Some(verdict), Some(test)) => {
-                let map = tile_map(verdict, test.tile, &s.reference);
-                figure(h, "tile test: red tiles differ beyond noise; amber nears the limit", Some(&map));
-                figure(h, "1 − SSIM (a diagnostic only: noise differs too)", diff.as_ref());
+        match (&s.tiles, &s.scene.tile_test, &s.ssim) {
+            (Some(verdict), Some(test), _) => {
+                figure(h, LEGEND, Some(&tile_map(verdict, test.tile, &s.reference)))
             }
-            _ if diff.is_some() => {
-                figure(h, "difference (1 − SSIM: black same, yellow very different)", diff.as_ref())
-            }
+            (None, None, Some(ssim)) => figure(
+                h,
+                "difference (1 − SSIM: black same, yellow very different)",
+                Some(&heatmap(ssim, &s.reference)),
+            ),
             _ => {}
         }
         h.push_str("</div>\n");
@@ -153,7 +155,7 @@ fn tile_failures(h: &mut String, verdict: &NoisyVerdict, test: &TileTest, width:
         h,
         "<p>{} renders, {} tiles of {2}×{2} pixels, each test at level {3:.1e} (a correct render fails somewhere with probability {4}); {5} tiles failed.</p>",
         test.renders,
-        verdict.tile_p.len(),
+        verdict.tiles.len(),
         test.tile,
         verdict.level,
         test.alpha,

@@ -33,6 +33,7 @@ pub mod splice;
 pub mod ssim;
 pub mod stub;
 pub mod submission;
+pub mod tile_map;
 pub mod unit_tests;
 pub mod unpack;
 pub mod variants;

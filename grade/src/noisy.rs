@@ -113,6 +113,26 @@ pub struct TileFailure {
     pub reason: String,
 }
 
+/// Which way a tile is off, by its least likely test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// Its mean is below the expected one.
+    Darker,
+    /// Its mean is above the expected one.
+    Brighter,
+    /// Its spread is off (too noisy, or not varying with the seed), or its numbers are not finite.
+    Noise,
+}
+
+/// One tile's smallest p-value over its tests and channels, and which way that test points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TileOutcome {
+    /// The p-value (0 for numbers that are not finite or renders that do not vary).
+    pub p: f64,
+    /// Which way.
+    pub direction: Direction,
+}
+
 /// The outcome of comparing one image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NoisyVerdict {
@@ -120,8 +140,11 @@ pub struct NoisyVerdict {
     pub failures: Vec<TileFailure>,
     /// The level each test was run at (Šidák, from the family-wise rate).
     pub level: f64,
-    /// Per tile, the smallest p-value of its tests (0 for numbers that are not finite).
-    pub tile_p: Vec<f64>,
+    /// Per tile (row-major), its outcome.
+    pub tiles: Vec<TileOutcome>,
+    /// The p-value above which a tile is as a correct render's would be ([`CALM_RATE`]): a map
+    /// colours only the tiles below it.
+    pub calm: f64,
 }
 
 impl NoisyVerdict {
@@ -133,77 +156,122 @@ impl NoisyVerdict {
 
 const CHANNELS: [&str; 3] = ["red", "green", "blue"];
 
+/// The rate at which a correct render has some tile below [`NoisyVerdict::calm`], at most: a map
+/// of a correct render is uncoloured 19 times in 20.
+pub const CALM_RATE: f64 = 0.05;
+
 /// Tests a submission's renders (each one's tile means) against `reference` with the family-wise
 /// error rate `alpha` (module docs).
 pub fn compare(submission: &[Vec<[f64; 3]>], reference: &NoisyReference, alpha: f64) -> NoisyVerdict {
-    let tiles = submission.first().map_or(0, Vec::len);
-    // Two tests per tile and channel.
-    let level = sidak(alpha, tiles * 3 * 2);
+    let (failures, tiles) = test_tiles(submission, reference, sidak(alpha, tests(submission)));
+    let calm = calm_level(reference, submission.len(), tests(submission));
+    NoisyVerdict { failures, level: sidak(alpha, tests(submission)), tiles, calm }
+}
+
+/// Two tests per tile and channel.
+fn tests(renders: &[Vec<[f64; 3]>]) -> usize {
+    renders.first().map_or(0, Vec::len) * 3 * 2
+}
+
+/// Each tile's outcome, and the tiles that fail at `level`.
+fn test_tiles(
+    submission: &[Vec<[f64; 3]>],
+    reference: &NoisyReference,
+    level: f64,
+) -> (Vec<TileFailure>, Vec<TileOutcome>) {
     let rank = RankTest::new(submission.len(), reference.solution.len());
-    let (got, solution) = (summarise(submission), summarise(&reference.solution));
     let channel = |renders: &[Vec<[f64; 3]>], tile: usize, c: usize| -> Vec<f64> {
         renders.iter().map(|r| r[tile][c]).collect()
     };
     let mut failures = Vec::new();
-    let mut tile_p = Vec::with_capacity(tiles);
-    for (tile, ((got, want), solution)) in got.iter().zip(&reference.expected).zip(&solution).enumerate() {
-        let mut first: Option<String> = None;
-        let mut p_tile: f64 = 1.0;
-        for c in 0..3 {
-            if !(got[c].mean.is_finite() && got[c].variance.is_finite()) {
-                first.get_or_insert_with(|| {
-                    format!("{} radiance is not finite ({})", CHANNELS[c], got[c].mean)
-                });
-                p_tile = 0.0;
-                continue;
+    let mut outcomes = Vec::new();
+    for (tile, want) in reference.expected.iter().enumerate().take(submission.first().map_or(0, Vec::len)) {
+        let mut worst = TileOutcome { p: 1.0, direction: Direction::Noise };
+        let mut first = None;
+        for (c, name) in CHANNELS.iter().enumerate() {
+            let (got, solution) = (channel(submission, tile, c), channel(&reference.solution, tile, c));
+            let (outcome, reason) = test_channel(name, &got, &solution, &want[c], &rank, level);
+            if outcome.p < worst.p {
+                worst = outcome;
             }
-            let floored = Summary { variance: got[c].variance.max(solution[c].variance), ..got[c] };
-            let means = welch(&floored, &want[c]);
-            // A solution tile without noise (all black, say) leaves the mean test to judge.
-            let spread_ratio = if solution[c].variance > 0.0 {
-                (got[c].variance / solution[c].variance).sqrt()
-            } else {
-                1.0
-            };
-            if spread_ratio < MIN_SPREAD {
-                first.get_or_insert_with(|| {
-                    format!(
-                        "{} does not vary with the seed (spread {spread_ratio:.4}x the solution's)",
-                        CHANNELS[c]
-                    )
-                });
-                p_tile = 0.0;
-                continue;
-            }
-            let spread = if solution[c].variance > 0.0 {
-                let distance =
-                    |v: Vec<f64>| -> Vec<f64> { v.iter().map(|x| (x - want[c].mean).abs()).collect() };
-                rank.p_greater(
-                    &distance(channel(submission, tile, c)),
-                    &distance(channel(&reference.solution, tile, c)),
-                )
-            } else {
-                1.0
-            };
-            p_tile = p_tile.min(means.p).min(spread);
-            if first.is_none() && means.p < level {
-                first = Some(format!(
-                    "{} mean {:.4} vs {:.4} expected (p = {:.1e})",
-                    CHANNELS[c], got[c].mean, want[c].mean, means.p
-                ));
-            } else if first.is_none() && spread < level {
-                first = Some(format!(
-                    "{} noise {spread_ratio:.2}x the solution's (rank test, p = {spread:.1e})",
-                    CHANNELS[c]
-                ));
-            }
+            first = first.or(reason);
         }
-        tile_p.push(p_tile);
+        outcomes.push(worst);
         if let Some(reason) = first {
             failures.push(TileFailure { tile, reason });
         }
     }
-    NoisyVerdict { failures, level, tile_p }
+    (failures, outcomes)
+}
+
+/// One channel of one tile: the submission's tile means `got` and the solution's at the same
+/// spp against the expected mean `want`. Its outcome, and why it fails at `level` if it does.
+fn test_channel(
+    name: &str,
+    got: &[f64],
+    solution: &[f64],
+    want: &Summary,
+    rank: &RankTest,
+    level: f64,
+) -> (TileOutcome, Option<String>) {
+    let (g, s) = (Summary::of(got.iter().copied()), Summary::of(solution.iter().copied()));
+    let broken = |reason: String| (TileOutcome { p: 0.0, direction: Direction::Noise }, Some(reason));
+    if !(g.mean.is_finite() && g.variance.is_finite()) {
+        return broken(format!("{name} radiance is not finite ({})", g.mean));
+    }
+    // A solution tile without noise (all black, say) leaves the mean test to judge.
+    let spread_ratio = if s.variance > 0.0 { (g.variance / s.variance).sqrt() } else { 1.0 };
+    if spread_ratio < MIN_SPREAD {
+        return broken(format!(
+            "{name} does not vary with the seed (spread {spread_ratio:.4}x the solution's)"
+        ));
+    }
+    let means = welch(&Summary { variance: g.variance.max(s.variance), ..g }, want);
+    let spread = if s.variance > 0.0 {
+        let distance = |v: &[f64]| -> Vec<f64> { v.iter().map(|x| (x - want.mean).abs()).collect() };
+        rank.p_greater(&distance(got), &distance(solution))
+    } else {
+        1.0
+    };
+    let reason = if means.p < level {
+        Some(format!("{name} mean {:.4} vs {:.4} expected (p = {:.1e})", g.mean, want.mean, means.p))
+    } else if spread < level {
+        Some(format!("{name} noise {spread_ratio:.2}x the solution's (rank test, p = {spread:.1e})"))
+    } else {
+        None
+    };
+    // A mean off its mark also spreads the distances from it: the mean test names the direction
+    // whenever it fails.
+    let outcome = if means.p <= spread || means.p < level {
+        let direction = if g.mean < want.mean { Direction::Darker } else { Direction::Brighter };
+        TileOutcome { p: means.p.min(spread), direction }
+    } else {
+        TileOutcome { p: spread, direction: Direction::Noise }
+    };
+    (outcome, reason)
+}
+
+/// The p-value a correct render's tiles stay above but with probability [`CALM_RATE`]: Šidák's
+/// level for that rate over `tests` tests, lowered to what the solution's own renders at the
+/// graded spp reach, taken `renders` at a time (each group against the spread of the others), for
+/// a test whose p-values are not quite uniform.
+fn calm_level(reference: &NoisyReference, renders: usize, tests: usize) -> f64 {
+    let solution = &reference.solution;
+    // Each group needs others beside it to measure a spread with.
+    let groups = match renders {
+        0 => 0,
+        r if solution.len() >= r + 2 => solution.len() / r,
+        _ => 0,
+    };
+    let mut calm = sidak(CALM_RATE, tests);
+    for g in 0..groups {
+        let group = &solution[g * renders..(g + 1) * renders];
+        let others = [&solution[..g * renders], &solution[(g + 1) * renders..]].concat();
+        let without = NoisyReference { expected: reference.expected.clone(), solution: others };
+        let (_, outcomes) = test_tiles(group, &without, 0.0);
+        calm = outcomes.iter().map(|o| o.p).fold(calm, f64::min);
+    }
+    calm
 }
 
 /// The reference solution's tile means, as `grader update-references` writes them beside the
@@ -337,6 +405,35 @@ mod tests {
         assert!(elsewhere <= 3, "{elsewhere} failures outside the biased tile");
     }
 
+    /// A map colours a correct submission's tiles in at most [`CALM_RATE`] of trials: in 100, a
+    /// binomial count of mean at most 5 and standard deviation at most 2.2; more than 13 (3.7
+    /// standard deviations above) would mean the calm level is miscalibrated. A tile 3% too bright
+    /// or too dark, or 8 times too noisy, is below it and points its way.
+    #[test]
+    fn a_correct_renders_tiles_are_calm_and_an_off_tile_points_its_way() {
+        let mut rng = Rng::new(96, 0);
+        let reference = reference(&mut rng);
+        let coloured = (0..100)
+            .filter(|_| {
+                let verdict = compare(&renders(&mut rng, 16, 0.05, 1.0, 1.0), &reference, 0.01);
+                verdict.tiles.iter().any(|t| t.p < verdict.calm)
+            })
+            .count();
+        assert!(coloured <= 13, "{coloured} of 100 correct submissions have a coloured tile");
+        for (scale, noisier, tile, direction) in [
+            (1.03, 1.0, 5, Direction::Brighter),
+            (0.97, 1.0, 5, Direction::Darker),
+            (1.0, 8.0, 6, Direction::Noise),
+        ] {
+            let verdict = compare(&renders(&mut rng, 16, 0.05, scale, noisier), &reference, 0.01);
+            let outcome = verdict.tiles[tile];
+            assert!(
+                outcome.p < verdict.calm && outcome.direction == direction,
+                "{scale} {noisier}: {outcome:?}"
+            );
+        }
+    }
+
     /// Correct renders whose tile means are far from normal pass as often as normal ones: one
     /// pixel of tile 2 gains a bright sample (12.5 times the noise of the tile's mean) in 1 render
     /// of 100, in the solution's renders and the submission's alike. An F-test of the variances
@@ -386,7 +483,7 @@ mod tests {
                 .collect();
             let verdict = compare(&renders, &reference, 0.01);
             assert_eq!(verdict.failures.len(), 1, "{bad}: {:?}", verdict.failures);
-            assert_eq!((verdict.failures[0].tile, verdict.tile_p[1]), (1, 0.0));
+            assert_eq!((verdict.failures[0].tile, verdict.tiles[1].p), (1, 0.0));
         }
     }
 

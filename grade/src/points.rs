@@ -347,7 +347,7 @@ fn failed_checks(s: &SceneResult) -> String {
                 format!(
                     "tile test: {} of {} tiles differ from the reference beyond their noise; the first, at pixels ({x}, {y}) to ({}, {}): {}",
                     v.failures.len(),
-                    v.tile_p.len(),
+                    v.tiles.len(),
                     x + tile - 1,
                     y + tile - 1,
                     v.failures[0].reason

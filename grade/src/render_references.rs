@@ -65,9 +65,7 @@ fn render_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> R
         let (loaded, film) = render_scene(root, scene, scene.reference_spp, expected_seed(r), FAST_TRACING)?;
         expected.push(tile_means(&film, test.tile));
         let (_, sum) = average.get_or_insert_with(|| (loaded, Film::new(film.width(), film.height())));
-        let n = test.reference_renders as f32;
-        let pixels = sum.pixels().iter().zip(film.pixels()).map(|(s, p)| *s + *p / n).collect();
-        *sum = Film::from_pixels(film.width(), film.height(), pixels);
+        sum.add_scaled(&film, 1.0 / test.reference_renders as f32);
     }
     let mut solution = Vec::new();
     for s in 0..test.solution_renders {

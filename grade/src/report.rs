@@ -6,9 +6,10 @@ use std::path::Path;
 use serde_json::json;
 
 use crate::grading::{GradeReport, SceneStatus};
-use crate::heatmap::{heatmap, tile_map};
+use crate::heatmap::heatmap;
 use crate::images::write_png;
 use crate::rubric::Checkpoint;
+use crate::tile_map::tile_map;
 
 /// The table a person reads: per scene, every check; then per checkpoint, the points and why
 /// points were lost, with the handout to read.
@@ -170,14 +171,16 @@ fn round2(x: f64) -> f64 {
     (x * 100.0).round() / 100.0
 }
 
-/// Writes each public scene's render and difference heat map into `dir` as `<scene>.png` and
-/// `<scene>.diff.png`, and a noisy scene's tile map as `<scene>.tiles.png` (a hidden scene's
-/// images are never shown).
+/// Writes each public scene's render into `dir` as `<scene>.png` (a noisy scene's: the mean of
+/// its renders), with its difference heat map as `<scene>.diff.png`, or a noisy scene's tile map
+/// as `<scene>.tiles.png` (a hidden scene's images are never shown).
 pub fn write_images(report: &GradeReport, dir: &Path) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     for s in report.scenes.iter().filter(|s| !s.scene.hidden) {
-        if let (Some(render), Some(ssim)) = (&s.render, &s.ssim) {
+        if let Some(render) = &s.render {
             write_png(&dir.join(format!("{}.png", s.scene.name)), render).map_err(|e| e.to_string())?;
+        }
+        if let (Some(ssim), None) = (&s.ssim, &s.tiles) {
             write_png(&dir.join(format!("{}.diff.png", s.scene.name)), &heatmap(ssim, &s.reference))
                 .map_err(|e| e.to_string())?;
         }
