@@ -15,8 +15,10 @@
 //! | 9 (path tracing) | checkpoint 8's direct light only (no bounces), or as for 8 if 8 is not written |
 //! | 7 (anti-aliasing) | one ray through each pixel centre |
 //!
-//! Nothing here is ever graded: the grader renders with `render --no-fallbacks`, where a stub
-//! fails the scene.
+//! The grader renders with `render --no-fallbacks`, where a stub fails the scene, except for the
+//! stand-ins a scene lists in the rubric (`stand_ins`) because they draw its picture exactly as the
+//! solution's code does: it reads from the source which checkpoints are still stubs and asks for
+//! those stand-ins up front (`render --stand-ins 3,4`), and they earn their checkpoints nothing.
 
 use crate::geometry::{intersect_triangle, BvhHit, SplitMethod, Triangle};
 use crate::integrator::{Integrator, IntersectionTestIntegrator, MonteCarloDirectIntegrator};
@@ -55,6 +57,29 @@ pub struct Fallbacks {
 }
 
 impl Fallbacks {
+    /// The stand-ins of `checkpoints` taken from the start, or the first checkpoint without one.
+    pub fn standing_in(checkpoints: &[u32]) -> Result<Fallbacks, u32> {
+        let mut fallbacks = Fallbacks::default();
+        for &checkpoint in checkpoints {
+            if fallbacks.take(checkpoint).is_none() && !fallbacks.covers(checkpoint) {
+                return Err(checkpoint);
+            }
+        }
+        Ok(fallbacks)
+    }
+
+    /// Whether the stand-ins taken replace all of `checkpoint`'s code.
+    pub fn covers(&self, checkpoint: u32) -> bool {
+        match checkpoint {
+            3 | 4 => self.every_triangle,
+            5 => self.shading == Some(Shading::Normals),
+            6 | 8 => matches!(self.shading, Some(Shading::IntersectionTest | Shading::Normals)),
+            9 => self.shading.is_some(),
+            7 => self.pixel_centre,
+            _ => false,
+        }
+    }
+
     /// Takes the stand-in for `checkpoint`, returning the line that tells the user, or `None` if
     /// there is none (checkpoint 2) or it was already taken (the stub is then an error).
     pub fn take(&mut self, checkpoint: u32) -> Option<&'static str> {
@@ -181,6 +206,21 @@ mod tests {
         assert!(f.take(4).is_some());
         assert_eq!(f.take(3), None, "3 and 4 share one stand-in");
         assert!(f.take(7).is_some() && f.pixel_centre);
+    }
+
+    /// Stand-ins asked for up front cover each checkpoint named, in any order, 3 and 4 by one;
+    /// checkpoint 2 has none.
+    #[test]
+    fn stand_ins_taken_up_front_cover_each_checkpoint_named() {
+        for ids in [[3, 4, 5, 6, 7, 8, 9], [9, 8, 7, 6, 5, 4, 3]] {
+            let f = Fallbacks::standing_in(&ids).unwrap();
+            assert!(ids.iter().all(|&c| f.covers(c)), "{ids:?}: {f:?}");
+            assert_eq!(f.shading, Some(Shading::Normals));
+        }
+        let f = Fallbacks::standing_in(&[4]).unwrap();
+        assert!(f.covers(3) && f.every_triangle && f.shading.is_none() && !f.pixel_centre);
+        assert_eq!(Fallbacks::standing_in(&[3, 2]), Err(2));
+        assert_eq!(Fallbacks::standing_in(&[]), Ok(Fallbacks::default()));
     }
 
     /// Path tracing unwritten: checkpoint 8's direct light; then 8 unwritten too: checkpoint 5's

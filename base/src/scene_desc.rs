@@ -81,6 +81,9 @@ pub struct IntegratorDesc {
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum IntegratorKind {
+    /// The first surface's normal, turned toward the camera, as a colour: geometry alone
+    /// (checkpoints 2 to 4), no materials, no lights.
+    Normals,
     /// Checkpoint 5: surfaces shaded by albedo and viewing angle, no lights.
     IntersectionTest,
     /// Checkpoint 6: point lights, Lambertian shading, shadows.

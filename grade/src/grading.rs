@@ -115,6 +115,8 @@ pub struct SceneResult {
     pub ssim: Option<SsimMap>,
     /// The tile test's verdict, for a scene graded by one.
     pub tiles: Option<NoisyVerdict>,
+    /// The checkpoints not written yet whose stand-ins drew it (see `GradedScene::stand_ins`).
+    pub stand_ins: Vec<u32>,
     /// What its row says, once the checkpoints are scored.
     pub status: SceneStatus,
 }
@@ -385,7 +387,9 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         let entry = manifest.fresh_entry(root, &scene)?;
         let limit =
             TIME_LIMIT_FLOOR.max(Duration::from_secs_f64(TIME_LIMIT_FACTOR * entry.graded_render_seconds));
-        scene_results.push(grade_scene(options, renderer.as_deref(), scene, limit, progress)?);
+        let (scene, stand_ins) = staged(scene, &stubbed);
+        let render = Render { limit, stand_ins: &stand_ins };
+        scene_results.push(grade_scene(options, renderer.as_deref(), scene, render, progress)?);
         progress.inc(1);
     }
     phases.renders = rendering.elapsed().as_secs_f64();
@@ -431,6 +435,15 @@ fn not_started(
     };
     let counts = |id: &u32| options.blame == Blame::Culprit || checkpoints.iter().any(|c| c.id == *id);
     Ok(stubbed.into_iter().filter(counts).collect())
+}
+
+/// `scene` as rendered in a tree whose `stubbed` checkpoints are not written yet: those it may
+/// stand in for are drawn by their stand-ins (returned) and no longer among the checkpoints it
+/// runs; any other stub still stops the render.
+fn staged(mut scene: GradedScene, stubbed: &[u32]) -> (GradedScene, Vec<u32>) {
+    let stand_ins: Vec<u32> = scene.stand_ins.iter().copied().filter(|c| stubbed.contains(c)).collect();
+    scene.depends_on.retain(|c| !stand_ins.contains(c));
+    (scene, stand_ins)
 }
 
 /// The scenes to render: those named, or those grading a selected checkpoint.
@@ -495,7 +508,14 @@ struct Child<'a> {
     renderer: &'a Path,
     code: PathBuf,
     options: &'a GradeOptions,
+    render: Render<'a>,
+}
+
+/// How one scene is rendered: its time limit, and the checkpoints drawn by stand-ins.
+#[derive(Clone, Copy)]
+struct Render<'a> {
     limit: Duration,
+    stand_ins: &'a [u32],
 }
 
 impl Child<'_> {
@@ -516,19 +536,24 @@ impl Child<'_> {
             .arg(scene.spp.to_string())
             .arg("--seed")
             .arg(seed.to_string())
-            // Stand-ins are never graded: a stub fails the scene.
+            // A stub fails the scene, unless the grader read from the source that it is one and
+            // the scene's picture is the same with its stand-in.
             .arg("--no-fallbacks");
+        if !self.render.stand_ins.is_empty() {
+            let ids: Vec<String> = self.render.stand_ins.iter().map(u32::to_string).collect();
+            command.arg("--stand-ins").arg(ids.join(","));
+        }
         if pfm {
             command.arg("--pfm").arg(&film);
             if self.options.wide_tile_renders {
                 command.arg("--accel").arg("wide");
             }
         }
-        let run = run_graded(command, self.limit, &graded_reads(&self.code), &own)
+        let run = run_graded(command, self.render.limit, &graded_reads(&self.code), &own)
             .map_err(|e| format!("cannot start {}: {e}", self.renderer.display()))?;
         let rendered = if !run.success() {
             // A hidden scene is reported by its fixed category only, never with its output.
-            let failure = run.failure(self.limit);
+            let failure = run.failure(self.render.limit);
             Err(if scene.hidden { failure.category.to_string() } else { failure.to_string() })
         } else if !png.exists() || (pfm && !film.exists()) {
             Err("the renderer exited without writing an image".to_string())
@@ -555,7 +580,7 @@ fn grade_scene(
     options: &GradeOptions,
     renderer: Result<&Path, &String>,
     scene: GradedScene,
-    limit: Duration,
+    render: Render,
     progress: &ProgressBar,
 ) -> Result<SceneResult, String> {
     let (reference, masks) = load_reference(&options.root, &scene)?;
@@ -575,6 +600,7 @@ fn grade_scene(
         reference,
         ssim: None,
         tiles: None,
+        stand_ins: render.stand_ins.to_vec(),
         status: SceneStatus::Failed,
     };
     let renderer = match renderer {
@@ -585,7 +611,7 @@ fn grade_scene(
             return Ok(result);
         }
     };
-    let child = Child { renderer, code, options, limit };
+    let child = Child { renderer, code, options, render };
     let base = options.seed.unwrap_or(scene.seed);
     let scored = match (&scene.tile_test, &tiles) {
         (Some(test), Some(tiles)) => tile_test(&child, &mut result, test, tiles, base, progress),

@@ -74,6 +74,15 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
     let grades: Vec<String> = s.scene.grades.iter().map(u32::to_string).collect();
     let rendered =
         if s.render.is_some() { format!("; rendered in {:.1} s", s.seconds) } else { String::new() };
+    let rendered = match s.stand_ins.as_slice() {
+        [] => rendered,
+        ids => format!(
+            "{rendered}; {} not written yet, so drawn by {} stand-in (the same picture, no points for {})",
+            crate::points::checkpoints_text(ids),
+            if ids.len() > 1 { "their" } else { "its" },
+            if ids.len() > 1 { "them" } else { "it" }
+        ),
+    };
     let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}{rendered}</p>",
         escape(&s.scene.name), grades.join(", "));
     if s.scene.hidden {
@@ -221,6 +230,7 @@ mod tests {
                 reference: image,
                 ssim: Some(ssim),
                 tiles: None,
+                stand_ins: Vec::new(),
                 status: SceneStatus::Passed,
             }
         };

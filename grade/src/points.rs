@@ -10,6 +10,10 @@
 //! with its hint; one after it loses them with "fix checkpoint K first" and no hint of its own.
 //! If no checkpoint is to blame that way, every graded one loses the points, with its hint.
 //!
+//! **Stand-ins.** A scene whose picture a checkpoint's stand-in draws exactly (`stand_ins` in the
+//! rubric) is rendered with it while that checkpoint is not written, and no longer runs its code:
+//! it is graded for the others, and never gives the stood-in checkpoint points.
+//!
 //! **Waiting for another checkpoint.** In a student's own tree, a test of checkpoint N that stops
 //! in the `todo!()` of checkpoint K, a checkpoint whose regions are all still the starter's stubs,
 //! says nothing about N: it is listed as waiting for K and left out of N's fraction (a test's
@@ -109,7 +113,7 @@ enum Judged {
 }
 
 /// "checkpoint 3", "checkpoints 3 and 4", "checkpoints 3, 4 and 5".
-fn checkpoints_text(ids: &[u32]) -> String {
+pub fn checkpoints_text(ids: &[u32]) -> String {
     let names: Vec<String> = ids.iter().map(u32::to_string).collect();
     match names.as_slice() {
         [one] => format!("checkpoint {one}"),
@@ -270,7 +274,8 @@ fn score_part(id: u32, part: &Part, context: &Context) -> PartScore {
     }
     let mut kept = 0usize;
     for s in &part.scenes {
-        if s.passed() {
+        // A checkpoint not written earns nothing, though a stand-in may have drawn the scene.
+        if s.passed() && !context.not_started(id) {
             kept += 1;
             continue;
         }
@@ -387,6 +392,7 @@ mod tests {
             reference: RgbImage::new(1, 1),
             ssim: None,
             tiles: None,
+            stand_ins: Vec::new(),
             status: SceneStatus::Failed,
         }
     }
@@ -486,13 +492,18 @@ mod tests {
 
     /// Checkpoint 2 graded alone, the solution everywhere else: its bug fails every scene and
     /// checkpoint 5's tests, and the scenes cost checkpoint 2 all the same, saying why; the
-    /// culprit rule would have kept them (a later checkpoint's tests fail).
+    /// culprit rule would have kept those that run checkpoint 5 (a later checkpoint's tests fail).
     #[test]
     fn grader_blames_the_only_checkpoint_of_the_student_in_an_isolated_grade() {
         let rubric = rubric();
         let two = rubric.checkpoints.iter().find(|c| c.id == 2).unwrap();
         let tests = runs(|id| id == 5);
-        let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
+        let scenes: Vec<SceneResult> = rubric
+            .scenes
+            .iter()
+            .filter(|s| s.depends_on.contains(&5))
+            .map(|s| failed_scene(&rubric, &s.name))
+            .collect();
         let isolated_context = Context { tests: Some(&tests), stubbed: &[], blame: Blame::Isolated };
         let isolated = score_checkpoint(two, &scenes, &isolated_context);
         let culprit = score_checkpoint(two, &scenes, &culprit(&tests, &[]));
@@ -533,6 +544,20 @@ mod tests {
         assert_eq!(two.score(), two.max_score(true), "{:?}", two.reasons);
         // Graded with checkpoint 4 (--all), the same scene costs checkpoint 4: FAIL.
         assert_eq!(scene_status(&scene, &[2, 3, 4], &context), SceneStatus::Failed);
+    }
+
+    /// A scene that passed with stand-ins gives the checkpoints stood in for nothing, and the
+    /// written ones their points.
+    #[test]
+    fn a_scene_drawn_by_stand_ins_gives_a_checkpoint_not_written_nothing() {
+        let rubric = rubric();
+        let tests = runs(|id| id > 2);
+        let stubbed = [3, 4, 5, 6, 7, 8, 9];
+        let context = culprit(&tests, &stubbed);
+        let passed = SceneResult { error: None, ..failed_scene(&rubric, "intersection_test") };
+        let [two, three] =
+            [1, 2].map(|i| score_checkpoint(&rubric.checkpoints[i], std::slice::from_ref(&passed), &context));
+        assert_eq!((two.image_score, three.image_score), (two.checkpoint.image_points, 0.0));
     }
 
     /// Checkpoint 2 written with a bug (its tests fail), 3 to 9 stubs: the scene costs checkpoint

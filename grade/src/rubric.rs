@@ -126,6 +126,12 @@ pub struct GradedScene {
     /// Every checkpoint whose code rendering the scene runs (a superset of `grades`): a failure
     /// is blamed on the lowest of them whose unit tests fail.
     pub depends_on: Vec<u32>,
+    /// Checkpoints among `depends_on` whose stand-ins (`raylab::fallback`) draw this scene's
+    /// picture exactly as their code does: while one is still the starter's stub, the scene is
+    /// rendered with its stand-in (`render --stand-ins`) and graded all the same, costing or
+    /// giving that checkpoint nothing. A test renders each such scene both ways.
+    #[serde(default)]
+    pub stand_ins: Vec<u32>,
     /// What must hold for the scene to pass: image checks against the reference...
     #[serde(rename = "check", default)]
     pub checks: Vec<Check>,
@@ -369,8 +375,11 @@ impl Rubric {
             if let Some(g) = s.grades.iter().chain(&s.depends_on).find(|g| !ids.contains(g)) {
                 return Err(format!("scene {}: names unknown checkpoint {g}", s.name));
             }
-            if let Some(g) = s.grades.iter().find(|g| !s.depends_on.contains(g)) {
-                return Err(format!("scene {}: grades checkpoint {g} but does not depend on it", s.name));
+            if let Some(g) = s.grades.iter().chain(&s.stand_ins).find(|g| !s.depends_on.contains(g)) {
+                return Err(format!(
+                    "scene {}: grades or stands in for checkpoint {g} but does not depend on it",
+                    s.name
+                ));
             }
             graded.extend(s.grades.iter().map(|&g| (g, s.hidden)));
             for check in &s.checks {

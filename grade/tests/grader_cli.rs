@@ -153,6 +153,21 @@ fn grader_compare_prints_ssim_and_rejects_sizes_that_differ() {
     assert!(stderr(&out).contains("differ in size"), "{}", stderr(&out));
 }
 
+/// Output into a pipe whose reader is gone (`grader compare A B | head -1`) ends the grader
+/// quietly, without a panic and its backtrace.
+#[test]
+fn grader_ends_quietly_when_its_reader_stops() {
+    let reference = root().join("reference/cornell_direct.png");
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let out = Command::new(env!("CARGO_BIN_EXE_grader"))
+        .args(["compare", reference.to_str().unwrap(), reference.to_str().unwrap()])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
+}
+
 #[test]
 fn grader_never_recurses_inside_its_own_children() {
     let out = Command::new(env!("CARGO_BIN_EXE_grader"))

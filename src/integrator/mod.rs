@@ -32,8 +32,8 @@ pub enum Integrator {
     MonteCarloDirect(MonteCarloDirectIntegrator),
     /// Checkpoint 9.
     PathTracer(PathTracerIntegrator),
-    /// The first surface's normal as a colour: `render`'s stand-in while checkpoint 5 is
-    /// unwritten ([`crate::fallback`]); never graded.
+    /// The first surface's normal as a colour: a scene of geometry alone (checkpoints 2 to 4), and
+    /// `render`'s stand-in while checkpoint 5 is unwritten ([`crate::fallback`]).
     Normals,
 }
 
@@ -42,6 +42,7 @@ impl Integrator {
     pub fn from_settings(settings: &RenderSettings) -> Self {
         let max_depth = settings.max_depth;
         match settings.integrator {
+            IntegratorKind::Normals => Self::Normals,
             IntegratorKind::IntersectionTest => {
                 Self::IntersectionTest(IntersectionTestIntegrator { max_depth })
             }

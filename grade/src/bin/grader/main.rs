@@ -147,6 +147,12 @@ fn main() -> ExitCode {
     if let Ok(me) = std::env::current_exe() {
         sandbox::set_launcher(me);
     }
+    // Output piped into a reader that stops early (`| head`) ends the grader quietly, as it ends
+    // other command-line tools, not in a panic. SAFETY: restores a default before any thread.
+    #[cfg(unix)]
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse_from(args);
     let result = match cli.command {
         Some(Commands::Compare { a, b, json, heatmap }) => compare(&a, &b, json, heatmap.as_deref()),
