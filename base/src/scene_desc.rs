@@ -84,6 +84,9 @@ pub enum IntegratorKind {
     /// The first surface's normal, turned toward the camera, as a colour: geometry alone
     /// (checkpoints 2 to 4), no materials, no lights.
     Normals,
+    /// Each object's bounding box, found by the slab test alone (checkpoint 3), coloured by the
+    /// face the ray enters it through.
+    Boxes,
     /// Checkpoint 5: surfaces shaded by albedo and viewing angle, no lights.
     IntersectionTest,
     /// Checkpoint 6: point lights, Lambertian shading, shadows.

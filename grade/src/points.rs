@@ -425,13 +425,18 @@ mod tests {
             .collect()
     }
 
-    /// A bug in checkpoint 2 fails every scene; each lost point names checkpoint 2, and only
-    /// checkpoint 2 gets advice.
+    /// A bug in checkpoint 2 fails every scene that runs it; each lost point names checkpoint 2,
+    /// and only checkpoint 2 gets advice.
     #[test]
     fn grader_blames_every_failed_scene_on_the_lowest_checkpoint_whose_tests_fail() {
         let rubric = rubric();
         let tests = runs(|id| id == 2);
-        let scenes: Vec<SceneResult> = rubric.scenes.iter().map(|s| failed_scene(&rubric, &s.name)).collect();
+        let scenes: Vec<SceneResult> = rubric
+            .scenes
+            .iter()
+            .filter(|s| s.depends_on.contains(&2))
+            .map(|s| failed_scene(&rubric, &s.name))
+            .collect();
         for c in scored(&rubric, &tests, &[], &scenes) {
             let image_reasons: Vec<&String> = c.reasons.iter().filter(|r| r.starts_with("scene")).collect();
             if c.checkpoint.id == 2 {

@@ -6,11 +6,13 @@
 //! checkpoint 6. The path tracer (checkpoint 9) goes on from there: it bounces off diffuse
 //! surfaces too, shading each with checkpoint 8's [`sample_direct`].
 
+mod boxes;
 mod direct_lighting;
 mod intersection_test;
 mod monte_carlo_direct;
 mod path_tracer;
 
+pub use boxes::box_colour;
 pub use direct_lighting::{direct_from_point_light, DirectLightingIntegrator};
 pub use intersection_test::{trace_to_diffuse, DiffuseHit, IntersectionTestIntegrator};
 pub use monte_carlo_direct::{sample_direct, MonteCarloDirectIntegrator};
@@ -35,6 +37,9 @@ pub enum Integrator {
     /// The first surface's normal as a colour: a scene of geometry alone (checkpoints 2 to 4), and
     /// `render`'s stand-in while checkpoint 5 is unwritten ([`crate::fallback`]).
     Normals,
+    /// Each object's bounding box, coloured by the face the ray enters it through: the slab test
+    /// (checkpoint 3) alone ([`box_colour`]).
+    Boxes,
 }
 
 impl Integrator {
@@ -43,6 +48,7 @@ impl Integrator {
         let max_depth = settings.max_depth;
         match settings.integrator {
             IntegratorKind::Normals => Self::Normals,
+            IntegratorKind::Boxes => Self::Boxes,
             IntegratorKind::IntersectionTest => {
                 Self::IntersectionTest(IntersectionTestIntegrator { max_depth })
             }
@@ -65,6 +71,7 @@ impl Integrator {
             Self::MonteCarloDirect(i) => i.li(world, ray, rng),
             Self::PathTracer(i) => i.li(world, ray, rng),
             Self::Normals => normal_colour(world, ray),
+            Self::Boxes => box_colour(world.scene(), ray),
         }
     }
 }

@@ -11,7 +11,7 @@ use super::desc::{MaterialDesc, MaterialKind, ObjectDesc, SceneDesc, ShapeKind, 
 use super::error::{DisplayPath, SceneError, SourceMap};
 use super::{RenderSettings, Scene};
 use crate::camera::Camera;
-use crate::geometry::{transform_matrix, TriangleMesh};
+use crate::geometry::{transform_matrix, Aabb, TriangleMesh};
 use crate::light::{AreaLight, PointLight};
 use crate::material::Material;
 use crate::math::Vec3;
@@ -66,6 +66,7 @@ impl Scene {
             lights,
             area_lights: Vec::new(),
             object_emission: Vec::new(),
+            object_boxes: Vec::new(),
             light_powers: Vec::new(),
         };
         for (index, object) in desc.objects.iter().enumerate() {
@@ -87,6 +88,8 @@ impl Scene {
             scene.triangle_objects.resize(scene.triangles.len(), index as u32);
             let emission = object.emission.unwrap_or(Vec3::ZERO);
             scene.object_emission.push(emission);
+            let corners = scene.triangles[first..].iter().flat_map(|t| [t.p0, t.p1, t.p2]);
+            scene.object_boxes.push(corners.fold(Aabb::EMPTY, Aabb::grow));
             if emission != Vec3::ZERO {
                 let triangles = scene.triangles[first..].to_vec();
                 scene.area_lights.push(AreaLight::new(index as u32, triangles, emission));

@@ -15,7 +15,7 @@ pub use error::{Location, SceneError};
 pub use world::{SurfaceHit, World};
 
 use crate::camera::Camera;
-use crate::geometry::Triangle;
+use crate::geometry::{Aabb, Triangle};
 use crate::light::{light_powers, AreaLight, Light, PointLight};
 use crate::material::Material;
 use crate::math::Vec3;
@@ -54,6 +54,8 @@ pub struct Scene {
     pub area_lights: Vec<AreaLight>,
     /// `object_emission[k]`: the radiance object `k` emits from its front (zero for most).
     pub object_emission: Vec<Vec3>,
+    /// `object_boxes[k]`: the bounding box of object `k`'s triangles.
+    pub object_boxes: Vec<Aabb>,
     /// Every light's scalar power, in [`Scene::light`]'s order (for choosing one, checkpoint 8).
     pub light_powers: Vec<f32>,
 }
