@@ -397,6 +397,12 @@ mod tests {
         }
     }
 
+    /// A failed result for each scene that runs checkpoint `id`'s code.
+    fn failed_scenes_running(rubric: &Rubric, id: u32) -> Vec<SceneResult> {
+        let runs_it = rubric.scenes.iter().filter(|s| s.depends_on.contains(&id));
+        runs_it.map(|s| failed_scene(rubric, &s.name)).collect()
+    }
+
     /// Every checkpoint's tests passing, but those `failing` (one of five fails).
     fn runs(failing: impl Fn(u32) -> bool) -> TestRuns {
         let run = |id| match failing(id) {
@@ -431,12 +437,7 @@ mod tests {
     fn grader_blames_every_failed_scene_on_the_lowest_checkpoint_whose_tests_fail() {
         let rubric = rubric();
         let tests = runs(|id| id == 2);
-        let scenes: Vec<SceneResult> = rubric
-            .scenes
-            .iter()
-            .filter(|s| s.depends_on.contains(&2))
-            .map(|s| failed_scene(&rubric, &s.name))
-            .collect();
+        let scenes = failed_scenes_running(&rubric, 2);
         for c in scored(&rubric, &tests, &[], &scenes) {
             let image_reasons: Vec<&String> = c.reasons.iter().filter(|r| r.starts_with("scene")).collect();
             if c.checkpoint.id == 2 {
@@ -503,12 +504,7 @@ mod tests {
         let rubric = rubric();
         let two = rubric.checkpoints.iter().find(|c| c.id == 2).unwrap();
         let tests = runs(|id| id == 5);
-        let scenes: Vec<SceneResult> = rubric
-            .scenes
-            .iter()
-            .filter(|s| s.depends_on.contains(&5))
-            .map(|s| failed_scene(&rubric, &s.name))
-            .collect();
+        let scenes = failed_scenes_running(&rubric, 5);
         let isolated_context = Context { tests: Some(&tests), stubbed: &[], blame: Blame::Isolated };
         let isolated = score_checkpoint(two, &scenes, &isolated_context);
         let culprit = score_checkpoint(two, &scenes, &culprit(&tests, &[]));
