@@ -32,6 +32,17 @@ pub fn random_mesh(rng: &mut Rng, n: usize) -> Vec<Triangle> {
         .collect()
 }
 
+/// `n` parallel triangles along z, 0.005 apart from z = 0, each spanning x and y in `[-1, 1]`
+/// with its apex at `(0, 1)`: a ray down the z axis crosses them all.
+pub fn stack_of_planes(n: usize) -> Vec<Triangle> {
+    (0..n)
+        .map(|i| {
+            let z = i as f32 * 0.005;
+            Triangle::new(Vec3::new(-1.0, -1.0, z), Vec3::new(1.0, -1.0, z), Vec3::new(0.0, 1.0, z))
+        })
+        .collect()
+}
+
 /// The closest hit by testing every triangle.
 fn brute_force(triangles: &[Triangle], ray: &Ray) -> Option<(u32, TriangleHit)> {
     let hits = triangles.iter().enumerate().filter_map(|(i, t)| t.intersect(ray).map(|h| (i as u32, h)));

@@ -87,6 +87,9 @@ pub enum IntegratorKind {
     /// Each object's bounding box, found by the slab test alone (checkpoint 3), coloured by the
     /// face the ray enters it through.
     Boxes,
+    /// How many of the BVH's boxes each camera ray crosses before its closest hit (checkpoint 4's
+    /// tree and traversal), as a heat map.
+    BoxesCrossed,
     /// Checkpoint 5: surfaces shaded by albedo and viewing angle, no lights.
     IntersectionTest,
     /// Checkpoint 6: point lights, Lambertian shading, shadows.

@@ -543,8 +543,8 @@ mod tests {
         assert_eq!(status.word(), "-");
         let two = score_checkpoint(&rubric.checkpoints[1], std::slice::from_ref(&scene), &context);
         assert_eq!(two.score(), two.max_score(true), "{:?}", two.reasons);
-        // Graded with checkpoint 4 (--all), the same scene costs checkpoint 4: FAIL.
-        assert_eq!(scene_status(&scene, &[2, 3, 4], &context), SceneStatus::Failed);
+        // Graded with checkpoint 5 (--all), the same scene costs checkpoint 5: FAIL.
+        assert_eq!(scene_status(&scene, &[2, 5], &context), SceneStatus::Failed);
     }
 
     /// A scene that passed with stand-ins gives the checkpoints stood in for nothing, and the

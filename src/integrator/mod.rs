@@ -7,12 +7,14 @@
 //! surfaces too, shading each with checkpoint 8's [`sample_direct`].
 
 mod boxes;
+mod boxes_crossed;
 mod direct_lighting;
 mod intersection_test;
 mod monte_carlo_direct;
 mod path_tracer;
 
 pub use boxes::box_colour;
+pub use boxes_crossed::boxes_crossed_colour;
 pub use direct_lighting::{direct_from_point_light, DirectLightingIntegrator};
 pub use intersection_test::{trace_to_diffuse, DiffuseHit, IntersectionTestIntegrator};
 pub use monte_carlo_direct::{sample_direct, MonteCarloDirectIntegrator};
@@ -40,6 +42,9 @@ pub enum Integrator {
     /// Each object's bounding box, coloured by the face the ray enters it through: the slab test
     /// (checkpoint 3) alone ([`box_colour`]).
     Boxes,
+    /// How many of the BVH's boxes the ray crosses before its closest hit, as a heat map: the
+    /// tree and traversal of checkpoint 4 ([`boxes_crossed_colour`]).
+    BoxesCrossed,
 }
 
 impl Integrator {
@@ -49,6 +54,7 @@ impl Integrator {
         match settings.integrator {
             IntegratorKind::Normals => Self::Normals,
             IntegratorKind::Boxes => Self::Boxes,
+            IntegratorKind::BoxesCrossed => Self::BoxesCrossed,
             IntegratorKind::IntersectionTest => {
                 Self::IntersectionTest(IntersectionTestIntegrator { max_depth })
             }
@@ -72,6 +78,7 @@ impl Integrator {
             Self::PathTracer(i) => i.li(world, ray, rng),
             Self::Normals => normal_colour(world, ray),
             Self::Boxes => box_colour(world.scene(), ray),
+            Self::BoxesCrossed => boxes_crossed_colour(world, ray),
         }
     }
 }

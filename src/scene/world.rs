@@ -99,6 +99,14 @@ impl<'a> World<'a> {
         })
     }
 
+    /// Checkpoint 4's binary tree, if rays are traced through it.
+    pub fn bvh(&self) -> Option<&Bvh> {
+        match &self.tracer {
+            Tracer::Bvh(bvh) => Some(bvh),
+            Tracer::Wide(_) | Tracer::EveryTriangle => None,
+        }
+    }
+
     /// Whether anything blocks `ray` in its range.
     pub fn occluded(&self, ray: &Ray) -> bool {
         match &self.tracer {

@@ -16,7 +16,8 @@
 //!
 //! **Pitfalls.**
 //! - Returning the first hit found as the closest: leaves are not visited in order of distance.
-//! - Not shrinking `t_max`: the image is right, but every box along the ray is opened.
+//! - Not shrinking `t_max`: every box along the ray is opened, and unless you compare each
+//!   hit's `t` with the closest so far, the last hit found wins instead of the closest.
 //! - Far child first: also right but slow. The counts in `stats` show both.
 //! - An empty tree has no root: nothing to hit.
 //!
@@ -122,7 +123,7 @@ mod checkpoint4 {
     use crate::geometry::{SplitMethod, Triangle};
     use crate::math::Vec3;
     use crate::rng::Rng;
-    use crate::test_fixtures::{awkward_meshes, check_against_brute_force, random_mesh};
+    use crate::test_fixtures::{awkward_meshes, check_against_brute_force, random_mesh, stack_of_planes};
 
     #[test]
     fn closest_hits_equal_brute_force_on_random_meshes() {
@@ -171,13 +172,7 @@ mod checkpoint4 {
         // 256 parallel triangles along z; a ray down the axis crosses them all. Near-first
         // traversal with a shrinking t_max opens one root-to-leaf path (one box test per level),
         // then rejects each pushed far child with one more box test, and tests one leaf.
-        let triangles: Vec<Triangle> = (0..256)
-            .map(|i| {
-                let z = i as f32 * 0.005;
-                Triangle::new(Vec3::new(-1.0, -1.0, z), Vec3::new(1.0, -1.0, z), Vec3::new(0.0, 1.0, z))
-            })
-            .collect();
-        let bvh = Bvh::build(&triangles, SplitMethod::ObjectMedian);
+        let bvh = Bvh::build(&stack_of_planes(256), SplitMethod::ObjectMedian);
         let depth = bvh.depth() as u64;
         for (z0, dir, nearest_z) in [(-1.0, Vec3::Z, 0.0), (3.0, -Vec3::Z, 1.275)] {
             let ray = Ray::new(Vec3::new(0.1, 0.3, z0), dir);
