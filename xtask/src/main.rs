@@ -3,8 +3,9 @@
 //! `cargo xtask starter --out DIR` writes the student starter from the reference solution;
 //! `cargo xtask stub-matrix` proves, for each checkpoint N stubbed alone, that every checkpoint-N
 //! test fails and every test of the checkpoints before N passes; `cargo xtask zoo` runs the mistake
-//! catalogue and writes which check catches each mistake; `cargo xtask gradescope-dry-run` runs
-//! the Gradescope autograder's life cycle on a scratch root; `cargo xtask first-build` and
+//! catalogue and writes which check catches each mistake; `cargo xtask stage-points` checks that a
+//! mistake costs the same points in a student's own tree as in `grader submission`;
+//! `cargo xtask gradescope-dry-run` runs the Gradescope autograder's life cycle on a scratch root; `cargo xtask first-build` and
 //! `cargo xtask student-loop` time a student's first build and their edit-and-grade loop.
 //!
 //! The starter is the whole repository with every solution region replaced by its stub
@@ -12,10 +13,12 @@
 //! need: this generator, the mistake catalogue (`checkpoints/variants.toml`) and its calibration
 //! table. It then checks that no line of any solution survives in the starter.
 
+mod catalogue;
 mod classroom;
 mod first_build;
 mod gradescope;
 mod handouts;
+mod stage_points;
 mod starter;
 mod stub_matrix;
 mod student_loop;
@@ -45,6 +48,12 @@ enum Command {
     StubMatrix,
     /// Run the mistake catalogue: which unit test or scene catches each variant (docs/ZOO.md).
     Zoo,
+    /// Grade each catalogue mistake of checkpoint N in a starter written up to N, by the
+    /// student's grader and by `grader submission`: N's points must agree (docs/GRADING.md).
+    StagePoints {
+        /// Only these mistakes (default: every one).
+        mistakes: Vec<String>,
+    },
     /// Time a student's first `cargo test checkpoint2` in a fresh starter with a cold target
     /// folder, and the edit-to-result time after one edit (docs/PERFORMANCE.md).
     FirstBuild,
@@ -75,6 +84,7 @@ fn main() -> ExitCode {
         }
         Command::StubMatrix => stub_matrix::stub_matrix(),
         Command::Zoo => zoo::zoo(),
+        Command::StagePoints { mistakes } => stage_points::stage_points(&mistakes),
         Command::FirstBuild => first_build::first_build(),
         Command::StudentLoop { runs } => student_loop::student_loop(runs),
         Command::GradescopeDryRun { emulate } => gradescope::gradescope_dry_run(emulate),
@@ -91,19 +101,4 @@ fn main() -> ExitCode {
 /// The repository this xtask belongs to.
 fn repository() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("xtask lives inside the repository")
-}
-
-#[cfg(test)]
-mod tests {
-    use raylab_grade::variants::{check_patches, VariantFile};
-
-    use super::repository;
-
-    /// The catalogue patches the solution's text: an edit to a solution region can silently
-    /// break one. Checked here in a second, long before `zoo` or `grader calibrate` build it.
-    #[test]
-    fn every_catalogue_patch_applies_to_the_current_solution() {
-        let variants = VariantFile::load(&repository().join("checkpoints/variants.toml")).unwrap().variants;
-        check_patches(repository(), &variants).unwrap_or_else(|e| panic!("{e}"));
-    }
 }
