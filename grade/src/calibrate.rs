@@ -21,7 +21,7 @@ use std::path::Path;
 use indicatif::ProgressBar;
 use serde_json::Value;
 
-use crate::grading::{grade, GradeOptions};
+use crate::grading::{grade, GradeOptions, GradeReport};
 use crate::rubric::{GradedScene, Rubric};
 use raylab_base::stats::{binomial_at_least, clopper_pearson};
 
@@ -80,7 +80,9 @@ pub fn run_all(root: &Path, sweep: Option<Sweep>, progress: &ProgressBar) -> Res
     let variants: Vec<Variant> = catalogue
         .into_iter()
         .filter(|v| {
-            (v.correct || v.stub || !v.fails.is_empty()) && scenes_of(v).is_none_or(|s| !s.is_empty())
+            (v.correct || v.stub || !v.fails.is_empty())
+                && v.second_of.is_none()
+                && scenes_of(v).is_none_or(|s| !s.is_empty())
         })
         .collect();
     let seeds_of = |v: &Variant| -> Vec<Option<u64>> {
@@ -123,6 +125,17 @@ pub fn grade_images(
     scenes: Option<Vec<String>>,
     wide_tile_renders: bool,
 ) -> Result<Value, String> {
+    Ok(grade_report(tree, target, seed, scenes, wide_tile_renders)?.values())
+}
+
+/// The images of the tree graded as in [`grade_images`], the whole report.
+pub fn grade_report(
+    tree: &Path,
+    target: &Path,
+    seed: Option<u64>,
+    scenes: Option<Vec<String>>,
+    wide_tile_renders: bool,
+) -> Result<GradeReport, String> {
     let options = GradeOptions {
         target: Some(target.to_path_buf()),
         run_tests: false,
@@ -131,7 +144,7 @@ pub fn grade_images(
         wide_tile_renders,
         ..GradeOptions::new(tree)
     };
-    Ok(grade(&options, &ProgressBar::hidden())?.values())
+    grade(&options, &ProgressBar::hidden())
 }
 
 /// Problems with the current thresholds: a correct run failing a scene (on a noisy scene: more

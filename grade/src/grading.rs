@@ -16,6 +16,7 @@ use indicatif::ProgressBar;
 use crate::cargo::{build_renderer, BUILD_TIME_LIMIT};
 use crate::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
 use crate::features::Masks;
+use crate::fingerprint::{Fingerprints, Naming};
 use crate::images::{film_to_image, read_png};
 use crate::metrics::{Comparison, Measured};
 use crate::noisy::{compare, graded_seed, tile_means, NoisyReference, NoisyVerdict};
@@ -119,6 +120,9 @@ pub struct SceneResult {
     pub stand_ins: Vec<u32>,
     /// What its row says, once the checkpoints are scored.
     pub status: SceneStatus,
+    /// The known mistake a failed render looks like, if one is clearly named
+    /// ([`crate::fingerprint`]).
+    pub named: Option<Naming>,
 }
 
 /// What a scene's row says ([`crate::points::scene_status`]).
@@ -395,9 +399,11 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     phases.renders = rendering.elapsed().as_secs_f64();
     let context = Context { tests: tests.as_ref(), stubbed: &stubbed, blame: options.blame };
     let graded: Vec<u32> = checkpoints.iter().map(|c| c.id).collect();
+    let fingerprints = Fingerprints::load(root, &manifest)?;
     for s in &mut scene_results {
         explain_stub_stop(s, &context);
         s.status = scene_status(s, &graded, &context);
+        s.named = name_mistake(s, &fingerprints, &graded, &context);
     }
     let needed = rubric
         .checkpoints
@@ -417,6 +423,26 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
         seconds: start.elapsed().as_secs_f64(),
         phases,
     })
+}
+
+/// The known mistake a failed scene's render looks like, among those of the checkpoints whose code
+/// it ran as the student wrote it: every written one it runs, or in an isolated grade the graded
+/// ones ([`crate::fingerprint`]).
+fn name_mistake(
+    s: &SceneResult,
+    fingerprints: &Fingerprints,
+    graded: &[u32],
+    context: &Context,
+) -> Option<Naming> {
+    if s.status != SceneStatus::Failed || s.scene.hidden {
+        return None;
+    }
+    let students = |id: &u32| match context.blame {
+        Blame::Culprit => !context.stubbed.contains(id),
+        Blame::Isolated => graded.contains(id),
+    };
+    let checkpoints: Vec<u32> = s.scene.depends_on.iter().copied().filter(students).collect();
+    fingerprints.name(&s.scene.name, s.render.as_ref()?, &s.reference, &checkpoints)
 }
 
 /// The checkpoints still the starter's stubs: given, or read from the code. In an isolated grade
@@ -602,6 +628,7 @@ fn grade_scene(
         tiles: None,
         stand_ins: render.stand_ins.to_vec(),
         status: SceneStatus::Failed,
+        named: None,
     };
     let renderer = match renderer {
         Ok(renderer) => renderer,

@@ -10,6 +10,7 @@ use image::RgbImage;
 use crate::grading::{GradeReport, SceneResult, SceneStatus};
 use crate::heatmap::heatmap;
 use crate::noisy::{tile_origin, NoisyVerdict};
+use crate::report::named_text;
 use crate::rubric::TileTest;
 use crate::tile_map::{tile_map, LEGEND};
 
@@ -109,6 +110,12 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
             ),
             _ => {}
         }
+        if let Some(n) = &s.named {
+            // The mistake's fingerprint, enlarged to the render's size, pixels kept square.
+            let (w, h_) = s.reference.dimensions();
+            let enlarged = image::imageops::resize(&n.thumbnail, w, h_, image::imageops::FilterType::Nearest);
+            figure(h, &format!("looks like this known mistake: {}", n.entry.description), Some(&enlarged));
+        }
         h.push_str("</div>\n");
     }
     match (&s.status, &s.error) {
@@ -119,6 +126,9 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
             let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(e));
         }
         _ => {}
+    }
+    if let Some(n) = &s.named {
+        let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(&named_text(&s.scene.name, n)));
     }
     if !s.checks.is_empty() {
         checks_table(h, s, class, word);
@@ -232,6 +242,7 @@ mod tests {
                 tiles: None,
                 stand_ins: Vec::new(),
                 status: SceneStatus::Passed,
+                named: None,
             }
         };
         let report = |hidden: bool| GradeReport {

@@ -11,6 +11,8 @@ pub mod calibrate;
 pub mod cargo;
 pub mod child;
 pub mod features;
+pub mod fingerprint;
+pub mod fingerprint_make;
 pub mod fixture;
 pub mod grading;
 pub mod heatmap;

@@ -29,7 +29,7 @@ use std::collections::BTreeMap;
 
 use crate::grading::{Blame, CheckpointResult, SceneResult, SceneStatus};
 use crate::noisy::tile_origin;
-use crate::report::hint_text;
+use crate::report::{hint_text, named_text};
 use crate::rubric::{Checkpoint, GradedScene, Metric};
 use crate::stub::stub_panic;
 use crate::unit_tests::TestRun;
@@ -285,6 +285,7 @@ fn score_part(id: u32, part: &Part, context: &Context) -> PartScore {
                 // A checkpoint not started says so once, not once a scene.
                 if !context.not_started(id) {
                     score.reasons.push(reason);
+                    score.reasons.extend(s.named.as_ref().map(|n| named_text(&s.scene.name, n)));
                 }
                 score.blamed |= blamed;
             }
@@ -394,6 +395,7 @@ mod tests {
             tiles: None,
             stand_ins: Vec::new(),
             status: SceneStatus::Failed,
+            named: None,
         }
     }
 

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use serde_json::json;
 
+use crate::fingerprint::Naming;
 use crate::grading::{GradeReport, SceneStatus};
 use crate::heatmap::heatmap;
 use crate::images::write_png;
@@ -164,6 +165,17 @@ pub fn hint_text(checkpoint: &Checkpoint) -> String {
         "{} Read {}, section \"Symptoms of common mistakes\".",
         checkpoint.hint,
         checkpoint.handout.display()
+    )
+}
+
+/// What a failed scene looks like, with the evidence and where to read about it: `scene room
+/// looks like a known mistake of checkpoint 2: det < 0 treated as a miss (0.9993 to that
+/// mistake's render, 0.1041 to the reference); read checkpoints/02-triangle.md, ...`.
+pub fn named_text(scene: &str, named: &Naming) -> String {
+    let e = &named.entry;
+    format!(
+        "scene {scene} looks like a known mistake of checkpoint {}: {} ({:.4} to that mistake's render, {:.4} to the reference); read {}, section \"Symptoms of common mistakes\"",
+        e.checkpoint, e.description, named.to_mistake, named.to_reference, e.handout
     )
 }
 

@@ -43,6 +43,11 @@ pub struct Variant {
     /// Replace every solution region of the checkpoint with `todo!()`, as the starter does.
     #[serde(default)]
     pub stub: bool,
+    /// For a mistake written a second way: the catalogue mistake it repeats. Its renders are never
+    /// a fingerprint; they measure how well the first one's fingerprints name it
+    /// ([`crate::fingerprint`]), so calibration builds it only for that.
+    #[serde(default)]
+    pub second_of: Option<String>,
     /// The source patches (none: the solution itself).
     #[serde(default, rename = "patch")]
     pub patches: Vec<Patch>,

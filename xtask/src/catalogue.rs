@@ -21,6 +21,42 @@ mod tests {
         check_patches(repository(), &variants).unwrap_or_else(|e| panic!("{e}"));
     }
 
+    /// A mistake written a second way (`second_of`) measures the naming of the first one
+    /// (`grader fingerprints`): it repeats a catalogue mistake that fails a scene, in the same
+    /// checkpoint, with the same `fails`, in other words than the first's patches; and every
+    /// mistake a fingerprint names has one.
+    #[test]
+    fn every_second_way_repeats_a_named_mistake_in_other_words() {
+        let variants = catalogue();
+        let named: Vec<&Variant> = variants
+            .iter()
+            .filter(|v| !v.correct && !v.stub && v.second_of.is_none() && !v.fails.is_empty())
+            .collect();
+        let texts = |v: &Variant| -> Vec<String> {
+            v.patches.iter().map(|p| format!("{:?}{:?}", p.replace, p.body)).collect()
+        };
+        for second in variants.iter().filter(|v| v.second_of.is_some()) {
+            let first = named.iter().find(|f| Some(&f.name) == second.second_of.as_ref());
+            let first = first.unwrap_or_else(|| {
+                panic!("{}: second_of names no catalogue mistake that fails a scene", second.name)
+            });
+            assert_eq!(
+                (second.checkpoint, &second.fails, second.correct),
+                (first.checkpoint, &first.fails, false),
+                "{}",
+                second.name
+            );
+            assert_ne!(texts(second), texts(first), "{}: the same patch as {}", second.name, first.name);
+        }
+        for first in named {
+            assert!(
+                variants.iter().any(|v| v.second_of.as_ref() == Some(&first.name)),
+                "{}: no second way (`second_of`) to measure its naming",
+                first.name
+            );
+        }
+    }
+
     /// A scene gives checkpoint N image points only if it runs N's code: the catalogue's stub of
     /// N (its regions replaced by the starter's `todo!()`) must list every scene that grades N,
     /// and `grader calibrate --check` (in CI) then shows each of those scenes fails or refuses

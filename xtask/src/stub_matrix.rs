@@ -32,6 +32,7 @@ pub fn stub_matrix() -> Result<(), String> {
             fails: Vec::new(),
             seeds: Vec::new(),
             stub: true,
+            second_of: None,
             patches: Vec::new(),
         };
         make_scratch_tree(repository(), &tree, &variant)?;

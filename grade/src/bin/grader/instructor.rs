@@ -44,6 +44,16 @@ pub enum Command {
         #[arg(long, value_name = "M", requires = "sweep", value_parser = clap::value_parser!(u64).range(1..1 << 24))]
         other_seeds: Option<u64>,
     },
+    /// Render the mistake catalogue into reference/fingerprints/ (a thumbnail per mistake and
+    /// scene, so a failed render can be named) and measure the naming on renders held out.
+    Fingerprints {
+        /// The repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+        /// Where to write the naming table (Markdown).
+        #[arg(long, default_value = "target/NAMING.md")]
+        table: PathBuf,
+    },
     /// Package the tree for a grading platform: `gradescope` writes Gradescope's autograder zip
     /// (setup.sh, run_autograder, this tree with its hidden checks, the crates vendored).
     Package {
@@ -79,6 +89,7 @@ pub fn run(command: Command) -> Result<ExitCode, String> {
             calibrate(&root, table.as_deref(), check, sweep)
         }
         Command::MakeVariant { name, out, root } => make_variant(&root, &name, &out),
+        Command::Fingerprints { root, table } => fingerprints(&root, &table),
         Command::Package { platform: _, out, root } => package(&root, &out),
     }
 }
@@ -146,6 +157,23 @@ fn calibrate(
         println!("calibration: {p}");
     }
     Ok(if check && !problems.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+fn fingerprints(root: &Path, table: &Path) -> Result<ExitCode, String> {
+    let progress = progress_bar(0);
+    let made = raylab_grade::fingerprint_make::make(root, &progress);
+    progress.finish_and_clear();
+    let made = made?;
+    write_file_atomic(table, made.table.as_bytes()).map_err(|e| format!("{}: {e}", table.display()))?;
+    println!("{}", made.table);
+    println!(
+        "{}: {} fingerprints, margin {:.4}; the table is in {}",
+        raylab_grade::fingerprint::DIR,
+        made.count,
+        made.rule.margin,
+        table.display()
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 fn make_variant(root: &Path, name: &str, out: &Path) -> Result<ExitCode, String> {
