@@ -369,6 +369,7 @@ fn failed_checks(s: &SceneResult) -> String {
 mod tests {
     use super::*;
 
+    use crate::fingerprint::Naming;
     use crate::grading::SceneStatus;
     use crate::rubric::Rubric;
     use image::RgbImage;
@@ -397,6 +398,30 @@ mod tests {
             status: SceneStatus::Failed,
             named: None,
         }
+    }
+
+    /// A failed scene named as a known mistake says so under the checkpoint that loses its
+    /// points, right after the scene's own reason, with the evidence and the handout.
+    #[test]
+    fn a_named_mistake_follows_the_lost_scene() {
+        let rubric = rubric();
+        let entry = crate::fingerprint::Entry {
+            scene: "room".into(),
+            mistake: "triangle_rejects_back_faces".into(),
+            checkpoint: 2,
+            description: "back faces culled".into(),
+            handout: "checkpoints/02-triangle.md".into(),
+            inputs_hash: String::new(),
+        };
+        let named = Naming { entry, to_mistake: 0.99, to_reference: 0.1, thumbnail: RgbImage::new(1, 1) };
+        let scene = SceneResult { named: Some(named), ..failed_scene(&rubric, "room") };
+        let tests = runs(|id| id == 2);
+        let two = score_checkpoint(&rubric.checkpoints[1], &[scene], &culprit(&tests, &[]));
+        let at = two.reasons.iter().position(|r| r.starts_with("scene room: ")).expect("the scene's reason");
+        assert_eq!(
+            two.reasons.get(at + 1).map(String::as_str),
+            Some("scene room looks like a known mistake of checkpoint 2: back faces culled (0.9900 to that mistake's render, 0.1000 to the reference); read checkpoints/02-triangle.md, section \"Symptoms of common mistakes\"")
+        );
     }
 
     /// A failed result for each scene that runs checkpoint `id`'s code.
