@@ -1,4 +1,4 @@
-//! The pinhole camera: which ray leaves through which point of the film.
+//! The camera: which ray leaves through which point of the film.
 //!
 //! Film coordinates are in pixels: `x` from 0 at the left edge to `width` at the right, `y` from 0
 //! at the top to `height` at the bottom, so pixel `(i, j)` covers `[i, i+1) × [j, j+1)` and its
@@ -10,38 +10,73 @@
 //!   forward + (2x/width − 1) · a · h · right + (1 − 2y/height) · h · up
 //! ```
 //!
-//! where `forward`, `right` and `up` are the camera's orthonormal basis.
+//! where `forward`, `right` and `up` are the camera's orthonormal basis. An orthographic camera
+//! (the [`Projection`]) sends every ray along `forward`, from the point
+//!
+//! ```text
+//!   position + (2x/width − 1) · a · H/2 · right + (1 − 2y/height) · H/2 · up
+//! ```
+//!
+//! of the plane through the eye, where `H` is the film's height in world units. Seen straight
+//! along an axis, its rays have exact zero direction components (signed as the scene's `look_at −
+//! position` gives them: `-0.0` stays `-0.0`), and with `H` and the film a power of two, pixel
+//! centres fall exactly on the planes of boxes placed on them: the slab test's hardest cases.
 
 use crate::math::{Ray, Vec2, Vec3};
 
-/// A pinhole camera.
+/// How the film maps to rays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Every ray leaves the eye; the vertical field of view in degrees, in (0, 180).
+    Pinhole {
+        /// Vertical field of view in degrees.
+        fov_degrees: f32,
+    },
+    /// Parallel rays along the view direction, leaving the film plane through the eye.
+    Orthographic {
+        /// The film's height in world units.
+        height: f32,
+    },
+}
+
+/// A camera: a pinhole or an orthographic one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     position: Vec3,
     forward: Vec3,
     right: Vec3,
     up: Vec3,
-    tan_half_fov: f32,
+    /// Half the film's height: `tan(fov / 2)` at unit distance (pinhole) or in world units.
+    half_height: f32,
+    orthographic: bool,
     width: u32,
     height: u32,
 }
 
 impl Camera {
-    /// A camera at `position` looking at `look_at`, with `up` roughly up (it need not be
+    /// A pinhole camera at `position` looking at `look_at`, with `up` roughly up (it need not be
     /// perpendicular to the view direction, but must not be parallel to it), a vertical field of
     /// view of `fov_degrees`, and a film of `width × height` pixels.
     pub fn new(position: Vec3, look_at: Vec3, up: Vec3, fov_degrees: f32, width: u32, height: u32) -> Self {
+        Self::with_projection(position, look_at, up, Projection::Pinhole { fov_degrees }, width, height)
+    }
+
+    /// A camera placed as in [`Camera::new`], with either projection.
+    pub fn with_projection(
+        position: Vec3,
+        look_at: Vec3,
+        up: Vec3,
+        projection: Projection,
+        width: u32,
+        height: u32,
+    ) -> Self {
         let forward = (look_at - position).normalize();
         let right = forward.cross(up).normalize();
-        Self {
-            position,
-            forward,
-            right,
-            up: right.cross(forward),
-            tan_half_fov: (fov_degrees.to_radians() / 2.0).tan(),
-            width,
-            height,
-        }
+        let (half_height, orthographic) = match projection {
+            Projection::Pinhole { fov_degrees } => ((fov_degrees.to_radians() / 2.0).tan(), false),
+            Projection::Orthographic { height } => (height / 2.0, true),
+        };
+        Self { position, forward, right, up: right.cross(forward), half_height, orthographic, width, height }
     }
 
     /// Film width in pixels.
@@ -62,9 +97,13 @@ impl Camera {
     /// The ray through the film point `film` (in pixels, see the module docs).
     pub fn ray(&self, film: Vec2) -> Ray {
         let aspect = self.width as f32 / self.height as f32;
-        let sx = (2.0 * film.x / self.width as f32 - 1.0) * aspect * self.tan_half_fov;
-        let sy = (1.0 - 2.0 * film.y / self.height as f32) * self.tan_half_fov;
-        Ray::new(self.position, self.forward + sx * self.right + sy * self.up)
+        let sx = (2.0 * film.x / self.width as f32 - 1.0) * aspect * self.half_height;
+        let sy = (1.0 - 2.0 * film.y / self.height as f32) * self.half_height;
+        if self.orthographic {
+            Ray::new(self.position + sx * self.right + sy * self.up, self.forward)
+        } else {
+            Ray::new(self.position, self.forward + sx * self.right + sy * self.up)
+        }
     }
 }
 
@@ -101,6 +140,27 @@ mod checkpoint1 {
         // screen (-0.75, 0.75) on the plane z = -1.
         let cam = Camera::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, 4, 4);
         assert_dir(cam.ray(Vec2::new(0.5, 0.5)).dir, Vec3::new(-0.75, 0.75, -1.0));
+    }
+
+    #[test]
+    fn orthographic_rays_are_parallel_and_start_on_the_film_plane() {
+        // Film 4 units tall, 8 x 8 pixels: pixel (0, 0)'s centre is at (-1.75, 1.75) on the plane
+        // z = 4, and with a power-of-two film the arithmetic is exact.
+        let film = Projection::Orthographic { height: 4.0 };
+        let cam = Camera::with_projection(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, film, 8, 8);
+        let corner = cam.ray(Vec2::new(0.5, 0.5));
+        assert_eq!(corner.origin, Vec3::new(-1.75, 1.75, 4.0));
+        assert_eq!(corner.dir, -Vec3::Z);
+        assert_eq!(cam.ray(Vec2::new(7.5, 4.5)).origin, Vec3::new(1.75, -0.25, 4.0));
+    }
+
+    #[test]
+    fn an_axis_view_keeps_the_sign_of_its_zero_components() {
+        let film = Projection::Orthographic { height: 2.0 };
+        let cam = Camera::with_projection(Vec3::new(0.0, 0.0, 4.0), Vec3::new(-0.0, 0.0, 0.0), Vec3::Y, film, 4, 4);
+        let dir = cam.ray(Vec2::new(1.5, 2.5)).dir;
+        assert_eq!((dir.x.to_bits(), dir.y.to_bits()), ((-0.0f32).to_bits(), 0.0f32.to_bits()));
+        assert_eq!(cam.ray(Vec2::new(1.5, 2.5)).inv_dir.x, f32::NEG_INFINITY);
     }
 
     #[test]

@@ -104,6 +104,9 @@ const BROKEN: &[(&str, &str, usize, &str)] = &[
     ("kind = \"diffuse\"", "kind = \"glass\"", 15, "materials.white.albedo"),
     ("albedo = [0.8, 0.8, 0.8]", "", 14, "materials.white.kind"),
     ("look_at = [0, 0, 0]", "look_at = [0, 0, 5]", 3, "camera.look_at"),
+    ("fov = 40", "", 1, "camera"),
+    ("fov = 40", "fov = 40\northographic_height = 2", 6, "camera.orthographic_height"),
+    ("fov = 40", "orthographic_height = 0", 5, "camera.orthographic_height"),
 ];
 
 #[test]

@@ -49,9 +49,12 @@ pub struct CameraDesc {
     /// Roughly up; not parallel to the view direction.
     #[serde(deserialize_with = "finite_vec3")]
     pub up: Vec3,
-    /// Vertical field of view in degrees, in (0, 180).
-    #[serde(deserialize_with = "field_of_view")]
-    pub fov: f32,
+    /// A pinhole camera's vertical field of view in degrees, in (0, 180).
+    #[serde(default, deserialize_with = "field_of_view")]
+    pub fov: Option<f32>,
+    /// An orthographic camera's film height in world units, instead of `fov`: parallel rays.
+    #[serde(default, deserialize_with = "positive_finite")]
+    pub orthographic_height: Option<f32>,
     /// Film width in pixels, 1 to 8192.
     #[serde(deserialize_with = "resolution")]
     pub width: u32,
@@ -241,8 +244,8 @@ fn scale<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
     checked(d, ok, "expected three finite, non-zero numbers (zero flattens the object)").map(Vec3::from)
 }
 
-fn field_of_view<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
-    checked(d, |f: &f32| *f > 0.0 && *f < 180.0, "expected degrees between 0 and 180, exclusive")
+fn field_of_view<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f32>, D::Error> {
+    checked(d, |f: &f32| *f > 0.0 && *f < 180.0, "expected degrees between 0 and 180, exclusive").map(Some)
 }
 
 fn positive_finite<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f32>, D::Error> {

@@ -110,6 +110,18 @@ impl SourceMap<'_> {
         None
     }
 
+    /// The byte range of the header line `[table]`.
+    pub fn header_span(&self, table: &str) -> Option<Range<usize>> {
+        let mut offset = 0;
+        for line in self.text.split_inclusive('\n') {
+            if line.trim().strip_prefix('[').and_then(|t| t.strip_suffix(']')) == Some(table) {
+                return Some(offset..offset + line.len());
+            }
+            offset += line.len();
+        }
+        None
+    }
+
     /// The dotted path of the key on `line`: the last table header up to that line (arrays of
     /// tables numbered from 0) and the key on the line itself, if it has one.
     fn field_at(&self, line: usize) -> String {

@@ -10,7 +10,7 @@ use std::path::Path;
 use super::desc::{MaterialDesc, MaterialKind, ObjectDesc, SceneDesc, ShapeKind, MAX_SUBDIVISIONS};
 use super::error::{DisplayPath, SceneError, SourceMap};
 use super::{RenderSettings, Scene};
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{transform_matrix, Aabb, TriangleMesh};
 use crate::light::{AreaLight, PointLight};
 use crate::material::Material;
@@ -43,7 +43,19 @@ impl Scene {
                 "must not be parallel to the view direction (or zero)",
             ));
         }
-        let camera = Camera::new(c.position, c.look_at, c.up, c.fov, c.width, c.height);
+        let projection = match (c.fov, c.orthographic_height) {
+            (Some(fov_degrees), None) => Projection::Pinhole { fov_degrees },
+            (None, Some(height)) => Projection::Orthographic { height },
+            (Some(_), Some(_)) => {
+                let span = map.key_span("camera", "orthographic_height");
+                return Err(map.error(span, "a camera has a fov (pinhole) or an orthographic_height, not both"));
+            }
+            (None, None) => {
+                let message = "needs fov = DEGREES (a pinhole camera) or orthographic_height = UNITS";
+                return Err(map.error(map.header_span("camera"), message));
+            }
+        };
+        let camera = Camera::with_projection(c.position, c.look_at, c.up, projection, c.width, c.height);
 
         let names: BTreeMap<&str, u32> =
             desc.materials.keys().enumerate().map(|(i, k)| (k.as_str(), i as u32)).collect();
