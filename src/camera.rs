@@ -157,7 +157,8 @@ mod checkpoint1 {
     #[test]
     fn an_axis_view_keeps_the_sign_of_its_zero_components() {
         let film = Projection::Orthographic { height: 2.0 };
-        let cam = Camera::with_projection(Vec3::new(0.0, 0.0, 4.0), Vec3::new(-0.0, 0.0, 0.0), Vec3::Y, film, 4, 4);
+        let cam =
+            Camera::with_projection(Vec3::new(0.0, 0.0, 4.0), Vec3::new(-0.0, 0.0, 0.0), Vec3::Y, film, 4, 4);
         let dir = cam.ray(Vec2::new(1.5, 2.5)).dir;
         assert_eq!((dir.x.to_bits(), dir.y.to_bits()), ((-0.0f32).to_bits(), 0.0f32.to_bits()));
         assert_eq!(cam.ray(Vec2::new(1.5, 2.5)).inv_dir.x, f32::NEG_INFINITY);

@@ -48,7 +48,9 @@ impl Scene {
             (None, Some(height)) => Projection::Orthographic { height },
             (Some(_), Some(_)) => {
                 let span = map.key_span("camera", "orthographic_height");
-                return Err(map.error(span, "a camera has a fov (pinhole) or an orthographic_height, not both"));
+                return Err(
+                    map.error(span, "a camera has a fov (pinhole) or an orthographic_height, not both")
+                );
             }
             (None, None) => {
                 let message = "needs fov = DEGREES (a pinhole camera) or orthographic_height = UNITS";
