@@ -20,9 +20,8 @@
 //! solution's code does: it reads from the source which checkpoints are still stubs and asks for
 //! those stand-ins up front (`render --stand-ins 3,4`), and they earn their checkpoints nothing.
 
-use crate::geometry::{intersect_triangle, BvhHit, SplitMethod, Triangle};
+use crate::geometry::SplitMethod;
 use crate::integrator::{Integrator, IntersectionTestIntegrator, MonteCarloDirectIntegrator};
-use crate::math::{Ray, Vec3};
 use crate::scene::{RenderSettings, Scene, World};
 
 /// How the starter's stubs panic (`todo!("checkpoint N: ...")`).
@@ -41,7 +40,7 @@ pub enum Shading {
     IntersectionTest,
     /// Checkpoint 8's Monte Carlo direct lighting (no bounces).
     DirectOnly,
-    /// The first surface's normal as a colour ([`normal_colour`]).
+    /// The first surface's normal as a colour ([`crate::integrator::normal_colour`]).
     Normals,
 }
 
@@ -136,57 +135,9 @@ impl Fallbacks {
     }
 }
 
-/// The closest triangle `ray` meets in its range, testing every one (checkpoint 2 only).
-pub fn closest_triangle(triangles: &[Triangle], ray: &Ray) -> Option<BvhHit> {
-    let mut ray = *ray;
-    let mut closest = None;
-    for (prim, t) in triangles.iter().enumerate() {
-        if let Some(hit) = intersect_triangle(&ray, t.p0, t.p1, t.p2) {
-            ray.t_max = hit.t;
-            closest = Some(BvhHit { prim: prim as u32, hit });
-        }
-    }
-    closest
-}
-
-/// Whether any triangle blocks `ray` in its range, testing every one (checkpoint 2 only).
-pub fn any_triangle(triangles: &[Triangle], ray: &Ray) -> bool {
-    triangles.iter().any(|t| intersect_triangle(ray, t.p0, t.p1, t.p2).is_some())
-}
-
-/// The first surface's normal, turned toward the viewer, as a colour: `(n + 1) / 2`, so a
-/// surface facing +x is pink-red, +y green, +z blue; black where the ray meets nothing.
-pub fn normal_colour(world: &World, ray: Ray) -> Vec3 {
-    world.intersect(&ray).map_or(Vec3::ZERO, |hit| {
-        let n = if hit.normal.dot(ray.dir) > 0.0 { -hit.normal } else { hit.normal };
-        (n + 1.0) * 0.5
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::Rng;
-    use crate::test_fixtures::{random_mesh, random_unit_vector};
-
-    /// The stand-in tracer finds the nearest of all the hits each triangle gives alone on the
-    /// full ray, and any-hit agrees with it.
-    #[test]
-    fn testing_every_triangle_finds_the_nearest_hit() {
-        let mut rng = Rng::new(5, 0);
-        let triangles = random_mesh(&mut rng, 200);
-        for _ in 0..500 {
-            let origin = 2.0 * random_unit_vector(&mut rng);
-            let ray = Ray::new(origin, 0.3 * random_unit_vector(&mut rng) - origin);
-            let nearest = triangles
-                .iter()
-                .filter_map(|t| intersect_triangle(&ray, t.p0, t.p1, t.p2))
-                .map(|h| h.t)
-                .reduce(f32::min);
-            assert_eq!(closest_triangle(&triangles, &ray).map(|h| h.hit.t), nearest, "{ray:?}");
-            assert_eq!(any_triangle(&triangles, &ray), nearest.is_some());
-        }
-    }
 
     #[test]
     fn only_the_starters_stub_messages_name_a_checkpoint() {

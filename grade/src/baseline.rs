@@ -14,11 +14,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::child::quote;
-use crate::markers::find_regions;
-use crate::plain::{kind, read_plain, walk, FileKind, MAX_FILE_BYTES};
+use crate::markers::{find_regions, Region, REGION_CHECKPOINTS};
+use crate::plain::{kind, quote, read_plain, walk, FileKind, MAX_FILE_BYTES};
 use crate::reference::fnv1a_hex;
-use crate::splice::{Region, REGION_CHECKPOINTS};
 use crate::stub::{region_bodies, rust_files};
 
 /// The starter's manifest, relative to the starter (never in the instructor's tree).

@@ -21,7 +21,8 @@ use std::path::Path;
 use indicatif::ProgressBar;
 use serde_json::Value;
 
-use crate::grading::{grade, GradeOptions, GradeReport};
+use crate::grading::{grade, GradeOptions};
+use crate::outcome::GradeReport;
 use crate::rubric::{GradedScene, Rubric};
 use raylab_base::stats::{binomial_at_least, clopper_pearson};
 

@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use crate::child::{quote, run_build, ChildRun, CHILD_ENV};
+use crate::child::{run_build, ChildRun, CHILD_ENV};
+use crate::plain::quote;
 
 /// Compiling a tree may take minutes on a cold machine (its dependencies: about 2 on 2 cores);
 /// 8 leave a build that never ends (a constant whose evaluation does not stop) inside

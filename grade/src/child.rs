@@ -12,11 +12,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::sandbox::{Profile, Walls};
+use crate::plain::quote;
+use crate::sandbox::{Budget, Limits, Profile, Walls};
 
 pub mod written;
 
-use written::{Budget, Watch};
+use written::Watch;
 
 /// Set in every child the grader starts; a grader that finds it refuses to start children of
 /// its own, so a test that runs the grader can never recurse.
@@ -24,40 +25,6 @@ pub const CHILD_ENV: &str = "RAYLAB_GRADER_CHILD";
 
 /// The `render` binary prints a panic's message on one line starting with this.
 pub const PANIC_PREFIX: &str = "render: panicked: ";
-
-/// Resource limits for a child, beyond its wall-clock time.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Limits {
-    /// Address space, in bytes (`RLIMIT_AS`); an allocation beyond it fails.
-    pub memory: u64,
-    /// Largest file the child may write, in bytes (`RLIMIT_FSIZE`).
-    pub file_size: u64,
-    /// What it may add to the folders it may write, over all files ([`written`]).
-    pub written: Budget,
-}
-
-impl Limits {
-    /// For graded code (renders, unit tests): 4 GiB of address space (a correct render needs a
-    /// few hundred MiB, thread stacks and allocator arenas included), files of at most 64 MiB,
-    /// 256 MiB and 1,000 entries in all (a render writes one image of at most a few MiB; the
-    /// checkpoint tests write none).
-    pub const GRADED: Option<Limits> = Some(Limits {
-        memory: 4 << 30,
-        file_size: 64 << 20,
-        written: Budget { bytes: 256 << 20, entries: 1_000 },
-    });
-
-    /// For each process of a build (cargo, rustc, the linker): 4 GiB of address space (rustc
-    /// needs under 1 GiB for the renderer; a 128 MiB `static` took 2.8 GB), files of at most 1 GiB
-    /// (the largest the renderer's build writes is under 200 MB), 8 GiB and 50,000 entries in all
-    /// (a cold build of the whole workspace, grader and benchmarks included, writes 1.1 GB in
-    /// 4,630 entries).
-    pub const BUILD: Option<Limits> = Some(Limits {
-        memory: 4 << 30,
-        file_size: 1 << 30,
-        written: Budget { bytes: 8 << 30, entries: 50_000 },
-    });
-}
 
 /// How a child ended.
 #[derive(Clone, Debug)]
@@ -185,22 +152,6 @@ impl std::fmt::Display for Failure {
             Some(detail) => write!(f, "{}: {detail}", self.category),
             None => write!(f, "{}", self.category),
         }
-    }
-}
-
-/// The longest quote of a child's text in a report.
-pub const MAX_QUOTE_CHARS: usize = 200;
-
-/// Text a child or a compiler wrote, made fit for a report: one line, control characters
-/// (terminal escapes, carriage returns, tabs) replaced by spaces and runs of white space folded,
-/// at most [`MAX_QUOTE_CHARS`] characters (cut with "...").
-pub fn quote(text: &str) -> String {
-    let cleaned: String = text.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
-    let words: Vec<&str> = cleaned.split_whitespace().collect();
-    let line = words.join(" ");
-    match line.char_indices().nth(MAX_QUOTE_CHARS) {
-        Some((cut, _)) => format!("{}...", &line[..cut]),
-        None => line,
     }
 }
 
@@ -415,6 +366,7 @@ fn kill_group(id: u32) {
 #[cfg(all(test, unix))]
 mod tests {
     use super::*;
+    use crate::plain::MAX_QUOTE_CHARS;
 
     fn sh(script: &str) -> Command {
         let mut c = Command::new("sh");

@@ -7,9 +7,9 @@ use std::fmt::Write;
 use base64::Engine;
 use image::RgbImage;
 
-use crate::grading::{GradeReport, SceneResult, SceneStatus};
 use crate::heatmap::heatmap;
 use crate::noisy::{tile_origin, NoisyVerdict};
+use crate::outcome::{GradeReport, SceneResult, SceneStatus};
 use crate::report::named_text;
 use crate::rubric::TileTest;
 use crate::tile_map::{tile_map, LEGEND};
@@ -218,7 +218,7 @@ pub fn escape(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grading::Phases;
+    use crate::outcome::Phases;
     use crate::rubric::Rubric;
     use std::path::Path;
 

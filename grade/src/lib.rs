@@ -22,9 +22,11 @@ pub mod lexer;
 pub mod markers;
 pub mod metrics;
 pub mod noisy;
+pub mod outcome;
 pub mod package;
 pub mod plain;
 pub mod points;
+pub mod probe;
 pub mod reference;
 #[cfg(feature = "instructor")]
 pub mod render_references;

@@ -8,8 +8,23 @@
 //! endings may be `\n` or `\r\n`.
 
 use std::ops::Range;
+use std::path::PathBuf;
 
 use crate::lexer::{tokens, Kind, LexError, Token};
+
+/// Checkpoints that can have solution regions.
+pub const REGION_CHECKPOINTS: std::ops::RangeInclusive<u32> = 1..=9;
+
+/// One solution region of the instructor's tree, as the grader names it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Region {
+    /// The file, relative to the tree.
+    pub file: PathBuf,
+    /// Its checkpoint.
+    pub checkpoint: u32,
+    /// The function whose body it is.
+    pub function: String,
+}
 
 /// One region of a file.
 #[derive(Clone, Debug, PartialEq, Eq)]

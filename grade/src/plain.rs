@@ -5,7 +5,8 @@
 //! submission is examined without following links ([`walk`]), and a file is opened with
 //! `O_NOFOLLOW | O_NONBLOCK` and checked to be a regular file on the open handle before one byte is
 //! read ([`read_plain`]): a link, a device, a FIFO or a socket is never read, and no read goes past
-//! its limit.
+//! its limit. What a child, a compiler or a file name says is quoted in a report only through
+//! [`quote`]: one line, bounded.
 
 use std::io::Read;
 use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
@@ -136,6 +137,22 @@ pub fn walk(dir: &Path, skip: &[&str]) -> std::io::Result<Vec<(PathBuf, FileKind
 /// Whether `path` is a folder, not a link to one.
 pub fn is_plain_dir(path: &Path) -> bool {
     kind(path) == Some(FileKind::Dir)
+}
+
+/// The longest quote of a child's text in a report.
+pub const MAX_QUOTE_CHARS: usize = 200;
+
+/// Text a child or a compiler wrote, made fit for a report: one line, control characters
+/// (terminal escapes, carriage returns, tabs) replaced by spaces and runs of white space folded,
+/// at most [`MAX_QUOTE_CHARS`] characters (cut with "...").
+pub fn quote(text: &str) -> String {
+    let cleaned: String = text.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+    let words: Vec<&str> = cleaned.split_whitespace().collect();
+    let line = words.join(" ");
+    match line.char_indices().nth(MAX_QUOTE_CHARS) {
+        Some((cut, _)) => format!("{}...", &line[..cut]),
+        None => line,
+    }
 }
 
 #[cfg(test)]

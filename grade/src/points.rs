@@ -27,8 +27,8 @@
 
 use std::collections::BTreeMap;
 
-use crate::grading::{Blame, CheckpointResult, SceneResult, SceneStatus};
 use crate::noisy::tile_origin;
+use crate::outcome::{Blame, CheckpointResult, SceneResult, SceneStatus};
 use crate::report::{hint_text, named_text};
 use crate::rubric::{Checkpoint, GradedScene, Metric};
 use crate::stub::stub_panic;
@@ -370,7 +370,7 @@ mod tests {
     use super::*;
 
     use crate::fingerprint::Naming;
-    use crate::grading::SceneStatus;
+    use crate::outcome::SceneStatus;
     use crate::rubric::Rubric;
     use image::RgbImage;
     use std::path::{Path, PathBuf};

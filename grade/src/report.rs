@@ -6,9 +6,9 @@ use std::path::Path;
 use serde_json::json;
 
 use crate::fingerprint::Naming;
-use crate::grading::{GradeReport, SceneStatus};
 use crate::heatmap::heatmap;
 use crate::images::write_png;
+use crate::outcome::{GradeReport, SceneStatus};
 use crate::rubric::Checkpoint;
 use crate::tile_map::tile_map;
 

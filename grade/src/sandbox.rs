@@ -38,18 +38,17 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-use crate::child::Limits;
-
 #[cfg(target_os = "linux")]
 pub mod files;
 #[cfg(target_os = "linux")]
 pub mod filter;
 #[cfg(target_os = "linux")]
 pub mod launcher;
-#[cfg(target_os = "linux")]
-pub mod probe;
+mod limits;
 #[cfg(target_os = "linux")]
 pub mod user;
+
+pub use limits::{Budget, Limits};
 
 /// The first argument that makes the grader's executable the launcher.
 pub const LAUNCH: &str = "__sandbox";
@@ -267,11 +266,7 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
         profile: Profile::Run,
         read: Vec::new(),
         write: Vec::new(),
-        limits: Limits {
-            memory: 0,
-            file_size: 0,
-            written: crate::child::written::Budget { bytes: 0, entries: 0 },
-        },
+        limits: Limits { memory: 0, file_size: 0, written: Budget { bytes: 0, entries: 0 } },
         cpu_seconds: 0,
         user: None,
     };
@@ -307,30 +302,6 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
         return Err("the launcher needs --write DIR and a program after --".to_string());
     }
     Ok(Launch { walls, parent, without, program })
-}
-
-/// One wall, measured.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Measured {
-    /// What a graded process tried, and whether it was refused, in one line.
-    pub line: String,
-    /// Whether the wall held.
-    pub holds: bool,
-    /// Whether grading someone else's code needs it: every probe's wall is (the file wall holds
-    /// by Landlock, or where the grader is root by the graded user); which user a build runs as
-    /// is information.
-    pub required: bool,
-}
-
-/// The walls this machine gives a graded process, each measured by starting a probe through the
-/// launcher and trying what the wall forbids ([`probe`]).
-pub fn check() -> Vec<Measured> {
-    #[cfg(target_os = "linux")]
-    if let Some(launcher) = launcher_path() {
-        return probe::measure(launcher);
-    }
-    let line = "no walls on this platform: graded code runs with resource limits only".to_string();
-    vec![Measured { line, holds: false, required: true }]
 }
 
 #[cfg(test)]

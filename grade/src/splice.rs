@@ -25,7 +25,7 @@ use std::collections::BTreeMap;
 use crate::allow::check_region;
 use crate::baseline::{ignored_files, Baseline};
 use crate::lexer::line_at;
-use crate::markers::{find_regions, Found};
+use crate::markers::{find_regions, Found, Region, REGION_CHECKPOINTS};
 use crate::plain::{kind, read_text, FileKind, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
 use crate::stub::{is_stub, region_bodies, region_function, stub_regions};
@@ -45,20 +45,6 @@ pub const UNCHECKED_ENV: &str = "RAYLAB_UNCHECKED_TOKEN";
 /// Whether `body` is taken without the allow list (see [`UNCHECKED_ENV`]).
 fn unchecked(body: &str) -> bool {
     cfg!(debug_assertions) && std::env::var(UNCHECKED_ENV).is_ok_and(|t| t.len() >= 16 && body.contains(&t))
-}
-
-/// Checkpoints that can have solution regions.
-pub const REGION_CHECKPOINTS: std::ops::RangeInclusive<u32> = 1..=9;
-
-/// One solution region of the instructor's tree.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Region {
-    /// The file, relative to the tree.
-    pub file: PathBuf,
-    /// Its checkpoint.
-    pub checkpoint: u32,
-    /// The function whose body it is.
-    pub function: String,
 }
 
 /// What the submission has for a region.

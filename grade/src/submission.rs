@@ -15,7 +15,8 @@ use indicatif::ProgressBar;
 
 use crate::baseline::{starter_manifest, Baseline, StarterManifest};
 use crate::cargo::{error_code, error_place, BUILD_TIME_LIMIT};
-use crate::grading::{grade, Blame, CheckpointResult, GradeOptions, GradeReport, Phases};
+use crate::grading::{grade, GradeOptions};
+use crate::outcome::{Blame, CheckpointResult, GradeReport, Phases};
 use crate::plain::is_plain_dir;
 use crate::report::gradescope_json;
 use crate::rubric::Rubric;

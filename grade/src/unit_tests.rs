@@ -11,7 +11,8 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use crate::cargo::{cargo, executables, first_error, target_dir};
-use crate::child::{graded_reads, quote, run_build, run_graded, OwnFolder, CHILD_ENV};
+use crate::child::{graded_reads, run_build, run_graded, OwnFolder, CHILD_ENV};
+use crate::plain::quote;
 use crate::stub::stub_panic;
 
 /// What one `cargo test <filter>` run found.

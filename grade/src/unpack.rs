@@ -10,8 +10,7 @@
 use std::io::{Read, Write};
 use std::path::Path;
 
-use crate::child::quote;
-use crate::plain::{kind, FileKind};
+use crate::plain::{kind, quote, FileKind};
 
 /// No submission has more entries than this: the starter has a few hundred files.
 pub const MAX_ENTRIES: usize = 20_000;

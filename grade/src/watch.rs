@@ -17,7 +17,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
-use crate::grading::CheckpointResult;
+use crate::outcome::CheckpointResult;
 use crate::report::hint_text;
 
 /// Something that waits for the next save.

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use raylab_grade::sandbox::probe::{allowed, Attempt};
+use raylab_grade::probe::{allowed, Attempt};
 use raylab_grade::sandbox::{Profile, Wall};
 
 fn launcher() -> &'static Path {
@@ -104,14 +104,8 @@ fn a_build_runs_compilers_but_reaches_no_network_and_no_file_outside() {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let tcp = listener.local_addr().unwrap().to_string();
     let build = |attempt: Attempt| {
-        raylab_grade::sandbox::probe::allowed_in(
-            launcher(),
-            Profile::Build,
-            attempt,
-            &argument(attempt, &tcp),
-            &[],
-        )
-        .unwrap()
+        raylab_grade::probe::allowed_in(launcher(), Profile::Build, attempt, &argument(attempt, &tcp), &[])
+            .unwrap()
     };
     let allowed: Vec<bool> = [Attempt::ExecShell, Attempt::Fork, Attempt::Thread].map(build).to_vec();
     assert_eq!(allowed, [true, true, true], "exec, fork, thread");

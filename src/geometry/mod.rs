@@ -6,6 +6,7 @@
 
 mod aabb;
 pub mod bvh;
+mod every_triangle;
 mod mesh;
 mod triangle;
 // The harness's SIMD kernels (AVX2 detected at run time, prefetching): the one place `unsafe`
@@ -15,6 +16,7 @@ pub mod wide;
 
 pub use aabb::Aabb;
 pub use bvh::{Bvh, BvhHit, SplitMethod, TraversalStats};
+pub use every_triangle::{any_triangle, closest_triangle};
 pub use mesh::{transform_matrix, TriangleMesh};
 pub use triangle::{intersect_triangle, Triangle, TriangleHit};
 pub use wide::WideBvh;

@@ -11,6 +11,7 @@ mod boxes_crossed;
 mod direct_lighting;
 mod intersection_test;
 mod monte_carlo_direct;
+mod normals;
 mod path_tracer;
 
 pub use boxes::box_colour;
@@ -18,9 +19,9 @@ pub use boxes_crossed::boxes_crossed_colour;
 pub use direct_lighting::{direct_from_point_light, DirectLightingIntegrator};
 pub use intersection_test::{trace_to_diffuse, DiffuseHit, IntersectionTestIntegrator};
 pub use monte_carlo_direct::{sample_direct, MonteCarloDirectIntegrator};
+pub use normals::normal_colour;
 pub use path_tracer::{russian_roulette, PathTracerIntegrator, ROULETTE_AFTER};
 
-use crate::fallback::normal_colour;
 use crate::math::{Ray, Vec3};
 use crate::rng::Rng;
 use crate::scene::{IntegratorKind, RenderSettings, World};

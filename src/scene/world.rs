@@ -5,8 +5,7 @@
 //! student code is judged or shown (ARCHITECTURE.md, "Which tracer").
 
 use super::Scene;
-use crate::fallback::{any_triangle, closest_triangle};
-use crate::geometry::{Bvh, SplitMethod, TraversalStats, WideBvh};
+use crate::geometry::{any_triangle, closest_triangle, Bvh, SplitMethod, TraversalStats, WideBvh};
 use crate::material::Material;
 use crate::math::{Ray, Vec3};
 

@@ -18,6 +18,7 @@ mod classroom;
 mod first_build;
 mod gradescope;
 mod handouts;
+mod layers;
 mod stage_points;
 mod starter;
 mod stub_matrix;
@@ -46,6 +47,9 @@ enum Command {
     },
     /// For each checkpoint N from 2 to 7 stubbed alone: N's tests all fail, earlier ones pass.
     StubMatrix,
+    /// Each crate's modules, folder by folder, bottom layer first; fails on a cycle between
+    /// sibling modules (ARCHITECTURE.md lists the grader's layers in this order).
+    Layers,
     /// Run the mistake catalogue: which unit test or scene catches each variant (docs/ZOO.md).
     Zoo,
     /// Grade each catalogue mistake of checkpoint N in a starter written up to N, by the
@@ -83,6 +87,7 @@ fn main() -> ExitCode {
             starter::starter(&out).map(|()| println!("wrote the student starter to {}", out.display()))
         }
         Command::StubMatrix => stub_matrix::stub_matrix(),
+        Command::Layers => layers::layers(),
         Command::Zoo => zoo::zoo(),
         Command::StagePoints { mistakes } => stage_points::stage_points(&mistakes),
         Command::FirstBuild => first_build::first_build(),

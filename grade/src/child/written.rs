@@ -17,14 +17,7 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-/// What a child may add to its writable folders.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Budget {
-    /// Bytes of disk, counted as the blocks each file holds (a sparse file costs what it stores).
-    pub bytes: u64,
-    /// Files, folders and links: each costs an inode, which can run out before the bytes do.
-    pub entries: u64,
-}
+use crate::sandbox::Budget;
 
 /// Bytes and entries under some folders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

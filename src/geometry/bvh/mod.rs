@@ -12,7 +12,7 @@ mod sah;
 mod split;
 mod traverse;
 
-pub use split::SplitMethod;
+use split::{object_median_split, Split};
 pub use traverse::{BvhHit, TraversalStats};
 
 use rayon::prelude::*;
@@ -20,6 +20,27 @@ use rayon::prelude::*;
 use crate::geometry::{Aabb, Triangle};
 use crate::math::Vec3;
 use lanes::Box4;
+
+/// How a node's triangles are divided between its two children.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SplitMethod {
+    /// Half the triangles on each side, along the widest centroid axis (the student's split).
+    #[default]
+    ObjectMedian,
+    /// The binned surface area heuristic ([`sah`]): the harness's faster tree, for
+    /// benchmarks and large meshes.
+    Sah,
+}
+
+impl SplitMethod {
+    /// Reorders `prims` (at least two) and says where to split them.
+    pub fn split(self, prims: &mut [PrimRef]) -> Split {
+        match self {
+            SplitMethod::ObjectMedian => object_median_split(prims),
+            SplitMethod::Sah => sah::sah_split(prims),
+        }
+    }
+}
 
 /// Most triangles a leaf holds.
 pub const MAX_LEAF_TRIANGLES: usize = 4;

@@ -30,17 +30,6 @@ use super::PrimRef;
 #[allow(unused_imports)]
 use crate::geometry::Aabb;
 
-/// How a node's triangles are divided between its two children.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum SplitMethod {
-    /// Half the triangles on each side, along the widest centroid axis (the student's split).
-    #[default]
-    ObjectMedian,
-    /// The binned surface area heuristic ([`super::sah`]): the harness's faster tree, for
-    /// benchmarks and large meshes.
-    Sah,
-}
-
 /// A split: `prims[..mid]` go to the first child, `prims[mid..]` to the second.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Split {
@@ -48,16 +37,6 @@ pub struct Split {
     pub axis: usize,
     /// Where the second child's triangles start.
     pub mid: usize,
-}
-
-impl SplitMethod {
-    /// Reorders `prims` (at least two) and says where to split them.
-    pub fn split(self, prims: &mut [PrimRef]) -> Split {
-        match self {
-            SplitMethod::ObjectMedian => object_median_split(prims),
-            SplitMethod::Sah => super::sah::sah_split(prims),
-        }
-    }
 }
 
 /// Splits `prims` (at least two) at the median centroid along the widest centroid axis.
@@ -77,7 +56,7 @@ pub fn object_median_split(prims: &mut [PrimRef]) -> Split {
 #[cfg(test)]
 mod checkpoint4 {
     use super::*;
-    use crate::geometry::{Aabb, Bvh};
+    use crate::geometry::{Aabb, Bvh, SplitMethod};
     use crate::math::Vec3;
     use crate::test_fixtures::random_and_awkward_meshes;
 

@@ -23,7 +23,7 @@ use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};
 use raylab_grade::ssim::SsimMap;
 use raylab_grade::watch::Stage;
-use raylab_grade::{heatmap::heatmap, html, report, sandbox};
+use raylab_grade::{heatmap::heatmap, html, probe, report, sandbox};
 
 /// Grade raylab's checkpoints: unit tests and renders scored against reference images.
 #[derive(Parser)]
@@ -141,7 +141,7 @@ fn main() -> ExitCode {
     #[cfg(target_os = "linux")]
     match args.get(1).and_then(|a| a.to_str()) {
         Some(sandbox::LAUNCH) => return sandbox::launcher::launch(&args[2..]),
-        Some(sandbox::probe::PROBE) => return ExitCode::from(sandbox::probe::run(&args[2..]) as u8),
+        Some(probe::PROBE) => return ExitCode::from(probe::run(&args[2..]) as u8),
         _ => {}
     }
     if let Ok(me) = std::env::current_exe() {
@@ -179,7 +179,7 @@ fn main() -> ExitCode {
 
 /// `grader sandbox --check`: one line per wall; exit 1 if a required one is missing.
 fn sandbox_check() -> ExitCode {
-    let measured = sandbox::check();
+    let measured = probe::check();
     for wall in &measured {
         println!("{}", wall.line);
     }
@@ -200,7 +200,7 @@ fn sandbox_check() -> ExitCode {
 /// Grading someone else's code from the instructor's tree (`root` has no starter manifest) needs
 /// the walls, unless `--no-sandbox` (which still raises every wall the machine has): they are
 /// measured first; a missing required one stops the command, any other is a warning
-/// ([`sandbox::Measured::required`]). Where the grader is root, the solution's source and the
+/// ([`probe::Measured::required`]). Where the grader is root, the solution's source and the
 /// hidden files are closed to every other user first. A student grading their own tree is never refused.
 fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
     if root.join(raylab_grade::baseline::STARTER_MANIFEST).is_file() {
@@ -209,7 +209,7 @@ fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
     #[cfg(target_os = "linux")]
     sandbox::user::close_instructor_only(root)
         .map_err(|e| format!("cannot close the instructor's files: {e}"))?;
-    let missing: Vec<sandbox::Measured> = sandbox::check().into_iter().filter(|w| !w.holds).collect();
+    let missing: Vec<probe::Measured> = probe::check().into_iter().filter(|w| !w.holds).collect();
     for wall in &missing {
         eprintln!("grader: sandbox: {}", wall.line);
     }

@@ -7,8 +7,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use super::{wrap, Measured, Profile, Wall, Walls};
-use crate::child::{run_with_limit, Limits};
+use crate::child::run_with_limit;
+#[cfg(target_os = "linux")]
+use crate::sandbox::user;
+use crate::sandbox::{launcher_path, on_path, with_user, wrap, Limits, Profile, Wall, Walls};
 
 /// The first argument that makes the grader's executable a probe.
 pub const PROBE: &str = "__probe";
@@ -190,7 +192,7 @@ pub fn allowed_in(
         cpu_seconds: 10,
         user: None,
     };
-    let walls = super::with_user(walls, &probe, without)
+    let walls = with_user(walls, &probe, without)
         .map_err(|e| format!("cannot give {} to the graded user: {e}", own.display()))?;
     let run = run_with_limit(wrap(launcher, &probe, &walls, without), Duration::from_secs(20));
     let _ = std::fs::remove_dir_all(&own);
@@ -255,6 +257,7 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
         Err(e) => (e, false),
     };
     lines.push(Measured { line, holds, required: true });
+    #[cfg(target_os = "linux")]
     lines.extend(users(launcher));
     let _ = std::fs::remove_dir_all(&outside);
     lines
@@ -262,8 +265,9 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
 
 /// Which user graded code and builds run as: informative (the probes above measure what the user
 /// wall stops); a build that stays root is not a missing wall where Landlock holds.
+#[cfg(target_os = "linux")]
 fn users(launcher: &Path) -> Vec<Measured> {
-    if !super::user::is_root() {
+    if !user::is_root() {
         let line = "the grader is not root: graded code and builds run as the grader's own user".to_string();
         return vec![Measured { line, holds: true, required: false }];
     }
@@ -275,14 +279,14 @@ fn users(launcher: &Path) -> Vec<Measured> {
         cpu_seconds: 0,
         user: None,
     };
-    let cargo = super::on_path(std::ffi::OsStr::new("cargo"));
+    let cargo = on_path(std::ffi::OsStr::new("cargo"));
     let cases = [
         ("graded code", walls(Profile::Run), launcher.to_path_buf()),
         ("builds", walls(Profile::Build), cargo),
     ];
     cases
         .into_iter()
-        .map(|(what, walls, program)| match super::user::for_launch(&walls, &program, None) {
+        .map(|(what, walls, program)| match user::for_launch(&walls, &program, None) {
             Ok(uid) => {
                 Measured { line: format!("{what} run as user {uid}, not root"), holds: true, required: false }
             }
@@ -291,4 +295,28 @@ fn users(launcher: &Path) -> Vec<Measured> {
             }
         })
         .collect()
+}
+
+/// One wall, measured.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Measured {
+    /// What a graded process tried, and whether it was refused, in one line.
+    pub line: String,
+    /// Whether the wall held.
+    pub holds: bool,
+    /// Whether grading someone else's code needs it: every probe's wall is (the file wall holds
+    /// by Landlock, or where the grader is root by the graded user); which user a build runs as
+    /// is information.
+    pub required: bool,
+}
+
+/// The walls this machine gives a graded process, each measured by starting a probe through the
+/// launcher and trying what the wall forbids (the probes above).
+pub fn check() -> Vec<Measured> {
+    #[cfg(target_os = "linux")]
+    if let Some(launcher) = launcher_path() {
+        return measure(launcher);
+    }
+    let line = "no walls on this platform: graded code runs with resource limits only".to_string();
+    vec![Measured { line, holds: false, required: true }]
 }
