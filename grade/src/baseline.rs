@@ -35,7 +35,7 @@ pub const HIDDEN_DIRS: [&str; 2] = ["hidden", "tests/hidden"];
 /// The starter's files and regions, as `cargo xtask starter` wrote them.
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 pub struct StarterManifest {
-    /// Each file (relative, `/`-separated) with its fingerprint ([`fingerprint`]).
+    /// Each file (relative, `/`-separated) with its fingerprint (`fingerprint`).
     pub files: BTreeMap<String, String>,
     /// Each solution region: file, checkpoint, function.
     pub regions: Vec<(String, u32, String)>,

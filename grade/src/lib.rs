@@ -1,7 +1,7 @@
 //! Grading: scoring renders against reference images, per checkpoint.
 //!
 //! The grader only calls raylab's public rendering API; nothing in the renderer knows it exists.
-//! [`rubric`] says what is graded, [`reference`] keeps the reference images, [`features`] the masks
+//! [`rubric`] says what is graded, [`reference`](mod@reference) keeps the reference images, [`features`] the masks
 //! made with them, [`ssim`] and [`metrics`] score a render.
 
 pub mod allow;

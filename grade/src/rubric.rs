@@ -155,7 +155,7 @@ impl GradedScene {
 }
 
 /// How a noisy (Monte Carlo) scene is graded: the per-tile statistical test of
-/// [`crate::noisy`], whose seeds [`crate::noisy::Seeds`] fixes in advance.
+/// [`crate::noisy`], whose seeds [`crate::noisy::graded_seed`] fixes in advance.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct TileTest {

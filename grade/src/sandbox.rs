@@ -20,7 +20,7 @@
 //!   owns nothing but its folders.
 //! - **bytes written** ([`crate::child::written`]): the grader stops a child whose folders grow
 //!   past a budget, over all files.
-//! - **resources** (rlimits, [`crate::child::Limits`]): address space, CPU time, file size,
+//! - **resources** (rlimits, [`Limits`]): address space, CPU time, file size,
 //!   no core dumps.
 //! - **lifetime**: the launcher asks to be killed when the grader's thread that started it ends
 //!   (`PR_SET_PDEATHSIG`), so a killed grader leaves nothing running; a graded process cannot
@@ -31,7 +31,7 @@
 //! and no graded process can start one.
 //!
 //! Outside Linux, and when no launcher is set (the library's own tests), graded processes run
-//! with the resource limits only; [`check`] says which walls this machine gives.
+//! with the resource limits only; [`crate::probe::check`] says which walls this machine gives.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};

@@ -53,7 +53,7 @@ impl Watch {
     }
 
     /// Whether the folders hold more than allowed, or the process wrote more than the budget;
-    /// measured at most every [`EVERY`].
+    /// measured at most every `EVERY`.
     pub fn exceeded(&mut self) -> bool {
         if self.last.elapsed() < EVERY {
             return false;

@@ -15,7 +15,7 @@
 //! 7. `execveat(n, "", argv, envp, AT_EMPTY_PATH)`.
 //!
 //! A build's launcher forks first and does all this in its child, staying as the supervisor that
-//! takes the build's compilers down with it ([`supervise`]).
+//! takes the build's compilers down with it (`supervise`).
 //!
 //! Any failure is printed on one line (`sandbox: ...`) and exits with status 125, before the
 //! graded program ever runs: a wall that cannot be raised is never silently left out.

@@ -3,8 +3,8 @@
 //! The tree is stored flat, depth first: a node's first child is the next node in the array, its
 //! second child is found by index. Leaves point into [`Bvh::triangles`], which construction
 //! reorders so that each leaf's triangles are contiguous. Checkpoint 4 has two parts: the split
-//! ([`split`], where the student writes the object-median split) and the traversal
-//! ([`traverse`]). This file holds the plumbing around them: the recursion, leaves, and
+//! (`split.rs`, where the student writes the object-median split) and the traversal
+//! (`traverse.rs`). This file holds the plumbing around them: the recursion, leaves, and
 //! [`Bvh::validate`], which the tests use to check any tree, however it was split.
 
 mod lanes;
@@ -27,7 +27,7 @@ pub enum SplitMethod {
     /// Half the triangles on each side, along the widest centroid axis (the student's split).
     #[default]
     ObjectMedian,
-    /// The binned surface area heuristic ([`sah`]): the harness's faster tree, for
+    /// The binned surface area heuristic (`sah.rs`): the harness's faster tree, for
     /// benchmarks and large meshes.
     Sah,
 }

@@ -12,7 +12,7 @@
 //! **Construction: collapsing.** Start from a binary tree (checkpoint 4's, however it was split:
 //! the SAH tree is the fast one). A wide node stands for a binary node and takes as its children
 //! up to eight binary nodes below it that together cover its subtree; which ones is chosen for
-//! the least expected cost of tracing by the surface area heuristic ([`collapse`]). Leaves stay
+//! the least expected cost of tracing by the surface area heuristic (`collapse.rs`). Leaves stay
 //! the binary tree's leaves. Every box of the wide tree is a box of the binary tree, so a ray
 //! meets exactly the same boxes in both.
 //!
