@@ -1,8 +1,11 @@
 //! Grading: scoring renders against reference images, per checkpoint.
 //!
 //! The grader only calls raylab's public rendering API; nothing in the renderer knows it exists.
-//! [`rubric`] says what is graded, [`reference`](mod@reference) keeps the reference images, [`features`] the masks
-//! made with them, [`ssim`] and [`metrics`] score a render.
+//! [`rubric`] says what is graded, [`reference`](mod@reference) keeps the reference images,
+//! [`features`] the masks made with them, [`ssim`] and [`metrics`] score a render. The modules
+//! form layers (ARCHITECTURE.md, "Layers, checked"): each names only modules below it.
+
+#![warn(missing_docs)]
 
 pub mod allow;
 pub mod baseline;
