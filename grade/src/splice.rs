@@ -28,8 +28,8 @@ use crate::lexer::line_at;
 use crate::markers::{find_regions, Found, Region, REGION_CHECKPOINTS};
 use crate::plain::{kind, read_text, FileKind, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
+use crate::scratch::{copy_tree, write_if_changed};
 use crate::stub::{is_stub, region_bodies, region_function, stub_regions};
-use crate::variants::{copy_tree, write_if_changed};
 
 /// The renderer's crate root, which the scratch tree extends with the `graded` module.
 const LIB: &str = "src/lib.rs";
@@ -39,7 +39,7 @@ pub const STUDENT_ENV: &str = "RAYLAB_GRADED_STUDENT";
 
 /// Test builds of the grader only: a region holding the token this variable names is taken
 /// without the allow list, so the hostile suite can show what the sandbox stops when the checker
-/// has a hole ([`crate::fixture::UNCHECKED`]). Release builds have no such door.
+/// has a hole ([`crate::instructor::fixture::UNCHECKED`]). Release builds have no such door.
 pub const UNCHECKED_ENV: &str = "RAYLAB_UNCHECKED_TOKEN";
 
 /// Whether `body` is taken without the allow list (see [`UNCHECKED_ENV`]).

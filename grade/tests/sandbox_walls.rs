@@ -1,4 +1,4 @@
-//! Each wall of the sandbox on its own (`grade/src/sandbox.rs`): a probe started through the
+//! Each wall of the sandbox on its own (`grade/src/sandbox/`): a probe started through the
 //! grader's launcher tries what the wall forbids. With every wall up it is refused; with only the
 //! walls that forbid it left out (a switch test builds of the launcher alone accept) it succeeds,
 //! so the refusal is that wall's doing and the probe really tries.

@@ -4,8 +4,8 @@
 
 #[cfg(test)]
 mod tests {
+    use raylab_grade::instructor::variants::{check_patches, Variant, VariantFile};
     use raylab_grade::rubric::{GradedScene, Rubric};
-    use raylab_grade::variants::{check_patches, Variant, VariantFile};
 
     use crate::repository;
 

@@ -19,9 +19,9 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
-use raylab_grade::fixture;
+use raylab_grade::instructor::fixture;
 use raylab_grade::rubric::Rubric;
-use raylab_grade::variants::{copy_tree, NOT_COPIED};
+use raylab_grade::scratch::{copy_tree, NOT_COPIED};
 
 use crate::repository;
 
@@ -44,7 +44,7 @@ pub fn gradescope_dry_run(emulate: bool) -> Result<(), String> {
     }
     let zip = work.join("autograder.zip");
     let started = Instant::now();
-    raylab_grade::package::gradescope(root, &work.join("package"), &zip)?;
+    raylab_grade::instructor::package::gradescope(root, &work.join("package"), &zip)?;
     println!("packaged {} in {:.0} s", zip.display(), started.elapsed().as_secs_f64());
     let source = autograder.join("source");
     std::fs::create_dir_all(&source).map_err(|e| format!("{}: {e}", source.display()))?;

@@ -6,9 +6,9 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use raylab_grade::baseline::write_starter_manifest;
-use raylab_grade::package::tracked_files;
+use raylab_grade::instructor::package::tracked_files;
+use raylab_grade::instructor::variants::stub_tree;
 use raylab_grade::stub::{region_bodies, rust_files};
-use raylab_grade::variants::stub_tree;
 
 use crate::{repository, CHECKPOINTS};
 

@@ -3,9 +3,9 @@
 
 use std::time::Duration;
 
-use raylab_grade::calibrate::grade_images;
+use raylab_grade::instructor::calibrate::grade_images;
+use raylab_grade::instructor::variants::{check_patches, make_scratch_tree, VariantFile};
 use raylab_grade::unit_tests::build_tests;
-use raylab_grade::variants::{check_patches, make_scratch_tree, VariantFile};
 
 use crate::repository;
 

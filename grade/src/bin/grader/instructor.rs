@@ -7,10 +7,10 @@ use std::process::ExitCode;
 
 use clap::Subcommand;
 use raylab_base::image_io::write_file_atomic;
-use raylab_grade::calibrate::Sweep;
-use raylab_grade::render_references::update_references;
+use raylab_grade::instructor::calibrate::Sweep;
+use raylab_grade::instructor::render_references::update_references;
+use raylab_grade::instructor::variants::{make_scratch_tree, VariantFile};
 use raylab_grade::rubric::Rubric;
-use raylab_grade::variants::{make_scratch_tree, VariantFile};
 
 use crate::progress_bar;
 
@@ -96,7 +96,7 @@ pub fn run(command: Command) -> Result<ExitCode, String> {
 
 fn package(root: &Path, out: &Path) -> Result<ExitCode, String> {
     eprintln!("grader: packaging {} for Gradescope (cargo vendor may take a minute)", root.display());
-    raylab_grade::package::gradescope(root, &root.join("target/package/gradescope"), out)?;
+    raylab_grade::instructor::package::gradescope(root, &root.join("target/package/gradescope"), out)?;
     let size = std::fs::metadata(out).map_err(|e| format!("{}: {e}", out.display()))?.len();
     println!("{}: Gradescope autograder, {:.1} MB", out.display(), size as f64 / 1e6);
     Ok(ExitCode::SUCCESS)
@@ -122,19 +122,19 @@ fn calibrate(
 ) -> Result<ExitCode, String> {
     let rubric = Rubric::of_tree(root)?;
     let progress = progress_bar(0);
-    let runs = raylab_grade::calibrate::run_all(root, sweep, &progress);
+    let runs = raylab_grade::instructor::calibrate::run_all(root, sweep, &progress);
     progress.finish_and_clear();
     let runs = runs?;
     let (text, header, default_table) = match sweep {
         None => (
-            raylab_grade::calibrate::markdown(&runs, &rubric),
+            raylab_grade::instructor::calibrate::markdown(&runs, &rubric),
             "# Calibration\n\nWritten by `cargo run --release --bin grader -- calibrate`: every variant of \
             `checkpoints/variants.toml` graded against the references. ✗ marks a failed check.\n\n"
                 .to_string(),
             "docs/CALIBRATION.md",
         ),
         Some(Sweep { seeds, other_seeds }) => (
-            raylab_grade::calibrate::sweep_markdown(&runs, &rubric),
+            raylab_grade::instructor::calibrate::sweep_markdown(&runs, &rubric),
             format!(
                 "# Calibration of the tile test\n\nWritten by `cargo run --release --bin grader -- calibrate \
                 --sweep {seeds} --other-seeds {other_seeds}`: the noisy scenes graded with seeds 1 to {seeds} for \
@@ -152,7 +152,7 @@ fn calibrate(
     write_file_atomic(table, format!("{header}{text}").as_bytes())
         .map_err(|e| format!("{}: {e}", table.display()))?;
     println!("{text}");
-    let problems = raylab_grade::calibrate::verdicts(&runs, &rubric);
+    let problems = raylab_grade::instructor::calibrate::verdicts(&runs, &rubric);
     for p in &problems {
         println!("calibration: {p}");
     }
@@ -161,7 +161,7 @@ fn calibrate(
 
 fn fingerprints(root: &Path, table: &Path) -> Result<ExitCode, String> {
     let progress = progress_bar(0);
-    let made = raylab_grade::fingerprint_make::make(root, &progress);
+    let made = raylab_grade::instructor::fingerprint_make::make(root, &progress);
     progress.finish_and_clear();
     let made = made?;
     write_file_atomic(table, made.table.as_bytes()).map_err(|e| format!("{}: {e}", table.display()))?;

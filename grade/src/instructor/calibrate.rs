@@ -28,7 +28,7 @@ use raylab_base::stats::{binomial_at_least, clopper_pearson};
 
 /// A count of false fails whose binomial tail under `alpha` is below this is too many.
 pub const TOO_MANY: f64 = 1e-3;
-use crate::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
+use crate::instructor::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
 
 /// One graded run of one variant with one seed.
 #[derive(Clone, Debug)]

@@ -24,12 +24,12 @@ use std::path::Path;
 use image::RgbImage;
 use indicatif::ProgressBar;
 
-use crate::calibrate::grade_report;
 use crate::fingerprint::{thumbnail, Entry, FingerprintFile, Fingerprints, Likeness, Rule, DIR};
 use crate::images::write_png;
+use crate::instructor::calibrate::grade_report;
+use crate::instructor::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
 use crate::reference::Manifest;
 use crate::rubric::Rubric;
-use crate::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
 
 /// Held-out seeds of a mistake on a tile-tested scene.
 pub const OTHER_SEEDS: u64 = 4;

@@ -15,9 +15,9 @@ use serde::Deserialize;
 use crate::lexer::line_at;
 use crate::markers::find_regions;
 use crate::rubric::read_toml;
+use crate::scratch::{copy_tree, NOT_COPIED};
 use crate::splice::HIDDEN_DIRS;
 use crate::stub::{region_bodies, region_function, rust_files};
-use crate::variants::{copy_tree, NOT_COPIED};
 
 /// Where the fixtures live, relative to the repository.
 pub const HOSTILE: &str = "grade/tests/hostile";

@@ -16,12 +16,12 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::variants::write_if_changed;
+use crate::scratch::write_if_changed;
 
 /// Gradescope's two scripts, as the zip holds them.
 const SCRIPTS: [(&str, &str); 2] = [
-    ("setup.sh", include_str!("../gradescope/setup.sh")),
-    ("run_autograder", include_str!("../gradescope/run_autograder")),
+    ("setup.sh", include_str!("../../gradescope/setup.sh")),
+    ("run_autograder", include_str!("../../gradescope/run_autograder")),
 ];
 
 /// Writes the autograder zip of the tree at `root` to `out`, staging it in `work` (replaced).
