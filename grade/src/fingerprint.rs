@@ -4,7 +4,7 @@
 //! A *fingerprint* is a thumbnail of one catalogue mistake's render of one scene: the render
 //! shrunk by a box filter to at most [`SIDE`] pixels a side (a signature of the picture, not a
 //! measurement of light: the sRGB bytes are averaged). The instructor makes them
-//! (`grader fingerprints`, [`crate::instructor::fingerprint_make`]) into `reference/fingerprints/`, a PNG each
+//! (`grader fingerprints`, `instructor::fingerprint_make`) into `reference/fingerprints/`, a PNG each
 //! and `manifest.toml`, which also holds the naming rule measured there; the starter ships them.
 //!
 //! **The rule.** A failed render's thumbnail is compared, by the grader's SSIM, with the

@@ -7,37 +7,21 @@
 
 #![warn(missing_docs)]
 
-pub mod allow;
-pub mod baseline;
-pub mod batch;
-pub mod cargo;
-pub mod child;
 pub mod features;
 pub mod fingerprint;
 pub mod grading;
-pub mod heatmap;
-pub mod html;
 pub mod images;
 #[cfg(feature = "instructor")]
 pub mod instructor;
-pub mod lexer;
-pub mod markers;
 pub mod metrics;
 pub mod noisy;
 pub mod outcome;
 pub mod plain;
-pub mod points;
-pub mod probe;
 pub mod reference;
+pub mod regions;
 pub mod report;
 pub mod rubric;
-pub mod sandbox;
-pub mod scratch;
-pub mod splice;
+pub mod run;
 pub mod ssim;
-pub mod stub;
 pub mod submission;
-pub mod tile_map;
-pub mod unit_tests;
-pub mod unpack;
 pub mod watch;

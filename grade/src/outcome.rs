@@ -1,7 +1,7 @@
 //! What grading finds: per scene, per checkpoint and for the whole run, as values.
 //!
-//! [`crate::grading`] fills them in, [`crate::points`] scores them, [`crate::report`] and
-//! [`crate::html`] word them.
+//! [`crate::grading`] fills them in, [`crate::grading::points`] scores them, [`crate::report`] and
+//! [`crate::report::html`] word them.
 
 use image::RgbImage;
 
@@ -9,10 +9,10 @@ use crate::fingerprint::Naming;
 use crate::metrics::Measured;
 use crate::noisy::NoisyVerdict;
 use crate::rubric::{Check, Checkpoint, GradedScene};
+use crate::run::unit_tests::TestRun;
 use crate::ssim::SsimMap;
-use crate::unit_tests::TestRun;
 
-/// Who can have made a failed scene fail ([`crate::points`]).
+/// Who can have made a failed scene fail ([`crate::grading::points`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Blame {
     /// Every region runs the tree's own code: the lowest checkpoint whose tests fail.
@@ -50,7 +50,7 @@ pub struct SceneResult {
     pub named: Option<Naming>,
 }
 
-/// What a scene's row says ([`crate::points::scene_status`]).
+/// What a scene's row says ([`crate::grading::points::scene_status`]).
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneStatus {
     /// Every check passed.
@@ -90,7 +90,7 @@ pub struct CheckpointResult {
     /// Its hidden unit tests, if it has some and they ran.
     pub hidden_tests: Option<TestRun>,
     /// How many of its (public) tests wait for a checkpoint not written yet, left out of its
-    /// fraction ([`crate::points`]).
+    /// fraction ([`crate::grading::points`]).
     pub waiting: usize,
     /// Points from the unit tests, hidden ones included.
     pub test_score: f64,

@@ -424,8 +424,8 @@ mod tests {
     fn grader_runs_first_only_tests_that_exist() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let rubric = Rubric::load(&root.join(RUBRIC), &root).unwrap();
-        let mut sources = crate::stub::rust_files(&root.join("src")).unwrap();
-        sources.extend(crate::stub::rust_files(&root.join("tests/checkpoints")).unwrap());
+        let mut sources = crate::regions::stub::rust_files(&root.join("src")).unwrap();
+        sources.extend(crate::regions::stub::rust_files(&root.join("tests/checkpoints")).unwrap());
         for checkpoint in &rubric.checkpoints {
             for name in &checkpoint.tests_first {
                 let defined = sources.iter().any(|(_, text)| {

@@ -200,7 +200,7 @@ fn first_problem(result: &CheckpointResult) -> String {
 mod tests {
     use super::*;
     use crate::rubric::Rubric;
-    use crate::unit_tests::TestRun;
+    use crate::run::unit_tests::TestRun;
 
     /// Saves given by a list: `wait` takes the next, and stops when none is left.
     struct Saves(usize);

@@ -276,7 +276,8 @@ fn grader_batch_progress_counts_up_to_the_class_size() {
     }
     let out = scratch("progress-out");
     let bar = indicatif::ProgressBar::hidden();
-    let rows = raylab_grade::batch::grade_all(&root(), std::slice::from_ref(&class), &out, &bar).unwrap();
+    let rows = raylab_grade::submission::batch::grade_all(&root(), std::slice::from_ref(&class), &out, &bar)
+        .unwrap();
     std::fs::remove_dir_all(&class).unwrap();
     std::fs::remove_dir_all(&out).unwrap();
     assert_eq!(rows.len(), 2);

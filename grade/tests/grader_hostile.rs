@@ -16,9 +16,9 @@ use std::process::Command;
 
 use raylab_grade::instructor::fixture;
 use raylab_grade::reference::inputs_hash;
-use raylab_grade::scratch::{copy_tree, NOT_COPIED};
-use raylab_grade::splice::{HIDDEN_DIRS, UNCHECKED_ENV};
-use raylab_grade::stub::{region_bodies, rust_files};
+use raylab_grade::regions::stub::{region_bodies, rust_files};
+use raylab_grade::submission::scratch::{copy_tree, NOT_COPIED};
+use raylab_grade::submission::splice::{HIDDEN_DIRS, UNCHECKED_ENV};
 
 /// Tokens planted in the instructor's hidden files, in the solution's regions, and in another
 /// student's regions.

@@ -6,8 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
-use raylab_grade::probe::{allowed, Attempt};
-use raylab_grade::sandbox::{Profile, Wall};
+use raylab_grade::run::probe::{allowed, Attempt};
+use raylab_grade::run::sandbox::{Profile, Wall};
 
 fn launcher() -> &'static Path {
     Path::new(env!("CARGO_BIN_EXE_grader"))
@@ -58,7 +58,7 @@ fn held_by(attempt: Attempt, arg: &str, walls: &[Wall]) -> Vec<String> {
     if (walled, open) != (walls.is_empty(), true) {
         wrong.push(format!("{} {arg}: walled {walled}, without {walls:?} {open}", attempt.name()));
     }
-    let here = |w: &&Wall| **w != Wall::User || raylab_grade::sandbox::user::runs_as_user(launcher());
+    let here = |w: &&Wall| **w != Wall::User || raylab_grade::run::sandbox::user::runs_as_user(launcher());
     for &wall in walls.iter().filter(here) {
         let others: Vec<Wall> = walls.iter().copied().filter(|&w| w != wall).collect();
         if allowed(launcher(), attempt, arg, &others).unwrap() {
@@ -104,8 +104,14 @@ fn a_build_runs_compilers_but_reaches_no_network_and_no_file_outside() {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let tcp = listener.local_addr().unwrap().to_string();
     let build = |attempt: Attempt| {
-        raylab_grade::probe::allowed_in(launcher(), Profile::Build, attempt, &argument(attempt, &tcp), &[])
-            .unwrap()
+        raylab_grade::run::probe::allowed_in(
+            launcher(),
+            Profile::Build,
+            attempt,
+            &argument(attempt, &tcp),
+            &[],
+        )
+        .unwrap()
     };
     let allowed: Vec<bool> = [Attempt::ExecShell, Attempt::Fork, Attempt::Thread].map(build).to_vec();
     assert_eq!(allowed, [true, true, true], "exec, fork, thread");
@@ -158,8 +164,8 @@ fn a_build_below_a_cargo_config_reads_it() {
     let mut cargo = std::process::Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()));
     cargo.current_dir(&tree).args(["locate-project"]).env("CARGO_TARGET_DIR", &target);
     let limit = std::time::Duration::from_secs(60);
-    raylab_grade::sandbox::set_launcher(launcher().to_path_buf());
-    let run = raylab_grade::child::run_build(cargo, limit, &tree, &target).unwrap();
+    raylab_grade::run::sandbox::set_launcher(launcher().to_path_buf());
+    let run = raylab_grade::run::child::run_build(cargo, limit, &tree, &target).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     assert!(run.success(), "{}", run.stderr);
 }

@@ -21,7 +21,7 @@ use std::time::Instant;
 
 use raylab_grade::instructor::fixture;
 use raylab_grade::rubric::Rubric;
-use raylab_grade::scratch::{copy_tree, NOT_COPIED};
+use raylab_grade::submission::scratch::{copy_tree, NOT_COPIED};
 
 use crate::repository;
 
@@ -168,7 +168,7 @@ impl Scripts {
             .current_dir(autograder.join("source"))
             .env("AUTOGRADER_ROOT", autograder)
             .env_remove("CARGO_TARGET_DIR")
-            .env_remove(raylab_grade::child::CHILD_ENV);
+            .env_remove(raylab_grade::run::child::CHILD_ENV);
         command
     }
 }

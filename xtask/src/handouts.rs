@@ -8,7 +8,7 @@
 mod tests {
     use std::path::Path;
 
-    use raylab_grade::stub::{region_bodies, rust_files};
+    use raylab_grade::regions::stub::{region_bodies, rust_files};
 
     use crate::repository;
 

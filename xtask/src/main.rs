@@ -9,7 +9,7 @@
 //! `cargo xtask student-loop` time a student's first build and their edit-and-grade loop.
 //!
 //! The starter is the whole repository with every solution region replaced by its stub
-//! (`todo!("checkpoint N: ...")`, see `raylab_grade::stub`), and without what only instructors
+//! (`todo!("checkpoint N: ...")`, see `raylab_grade::regions::stub`), and without what only instructors
 //! need: this generator, the mistake catalogue (`checkpoints/variants.toml`) and its calibration
 //! table. It then checks that no line of any solution survives in the starter.
 

@@ -16,8 +16,8 @@ use std::process::Command;
 
 use raylab_grade::instructor::fixture::points;
 use raylab_grade::instructor::variants::{apply, Variant, VariantFile};
-use raylab_grade::scratch::{copy_tree, write_if_changed, NOT_COPIED};
-use raylab_grade::stub::{region_bodies, rust_files};
+use raylab_grade::regions::stub::{region_bodies, rust_files};
+use raylab_grade::submission::scratch::{copy_tree, write_if_changed, NOT_COPIED};
 
 use crate::repository;
 use crate::starter::starter;

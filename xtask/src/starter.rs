@@ -1,14 +1,14 @@
 //! The student starter: this repository's tracked files without the instructor's, every solution
-//! region replaced by its stub (`todo!("checkpoint N: ...")`, see `raylab_grade::stub`), and a
+//! region replaced by its stub (`todo!("checkpoint N: ...")`, see `raylab_grade::regions::stub`), and a
 //! check that no line of any solution survives.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use raylab_grade::baseline::write_starter_manifest;
 use raylab_grade::instructor::package::tracked_files;
 use raylab_grade::instructor::variants::stub_tree;
-use raylab_grade::stub::{region_bodies, rust_files};
+use raylab_grade::regions::baseline::write_starter_manifest;
+use raylab_grade::regions::stub::{region_bodies, rust_files};
 
 use crate::{repository, CHECKPOINTS};
 
@@ -245,8 +245,8 @@ mod tests {
     /// regions, a deleted file), and the instructor's tree has no manifest.
     #[test]
     fn a_students_tree_is_read_against_the_starters_manifest() {
-        use raylab_grade::baseline::{starter_manifest, Baseline};
-        use raylab_grade::splice::{read_submission, Taken};
+        use raylab_grade::regions::baseline::{starter_manifest, Baseline};
+        use raylab_grade::submission::splice::{read_submission, Taken};
         let out = std::env::temp_dir().join(format!("raylab-starter-manifest-{}", std::process::id()));
         starter(&out).unwrap();
         assert_eq!(starter_manifest(repository()).unwrap(), None);

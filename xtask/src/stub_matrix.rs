@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use raylab_grade::instructor::variants::{make_scratch_tree, Variant};
 use raylab_grade::rubric::Rubric;
-use raylab_grade::unit_tests::build_tests;
+use raylab_grade::run::unit_tests::build_tests;
 
 use crate::{repository, CHECKPOINTS};
 

@@ -16,7 +16,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use raylab_grade::stub::{region_bodies, rust_files};
+use raylab_grade::regions::stub::{region_bodies, rust_files};
 
 use crate::repository;
 use crate::starter::starter;

@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use raylab_grade::instructor::calibrate::grade_images;
 use raylab_grade::instructor::variants::{check_patches, make_scratch_tree, VariantFile};
-use raylab_grade::unit_tests::build_tests;
+use raylab_grade::run::unit_tests::build_tests;
 
 use crate::repository;
 

@@ -12,12 +12,12 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::lexer::line_at;
-use crate::markers::find_regions;
+use crate::regions::lexer::line_at;
+use crate::regions::markers::find_regions;
+use crate::regions::stub::{region_bodies, region_function, rust_files};
 use crate::rubric::read_toml;
-use crate::scratch::{copy_tree, NOT_COPIED};
-use crate::splice::HIDDEN_DIRS;
-use crate::stub::{region_bodies, region_function, rust_files};
+use crate::submission::scratch::{copy_tree, NOT_COPIED};
+use crate::submission::splice::HIDDEN_DIRS;
 
 /// Where the fixtures live, relative to the repository.
 pub const HOSTILE: &str = "grade/tests/hostile";
@@ -100,7 +100,7 @@ pub struct Expected {
 }
 
 /// Written in a fixture's region body, replaced by [`unchecked_token`]: a test build of the grader
-/// takes that region without the allow list ([`crate::splice::UNCHECKED_ENV`]), to show what the
+/// takes that region without the allow list ([`crate::submission::splice::UNCHECKED_ENV`]), to show what the
 /// sandbox stops when the checker has a hole.
 pub const UNCHECKED: &str = "{UNCHECKED}";
 

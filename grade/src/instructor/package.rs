@@ -16,7 +16,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::scratch::write_if_changed;
+use crate::submission::scratch::write_if_changed;
 
 /// Gradescope's two scripts, as the zip holds them.
 const SCRIPTS: [(&str, &str); 2] = [

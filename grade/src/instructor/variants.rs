@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::scratch::{copy_tree, NOT_COPIED};
-use crate::stub::{region_bodies, stub_regions};
+use crate::regions::stub::{region_bodies, stub_regions};
+use crate::submission::scratch::{copy_tree, NOT_COPIED};
 
 /// `checkpoints/variants.toml`.
 #[derive(Clone, Debug, Deserialize)]

@@ -23,7 +23,7 @@ use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};
 use raylab_grade::ssim::SsimMap;
 use raylab_grade::watch::Stage;
-use raylab_grade::{heatmap::heatmap, html, probe, report, sandbox};
+use raylab_grade::{report, report::heatmap::heatmap, report::html, run::probe, run::sandbox};
 
 /// Grade raylab's checkpoints: unit tests and renders scored against reference images.
 #[derive(Parser)]
@@ -203,7 +203,7 @@ fn sandbox_check() -> ExitCode {
 /// ([`probe::Measured::required`]). Where the grader is root, the solution's source and the
 /// hidden files are closed to every other user first. A student grading their own tree is never refused.
 fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
-    if root.join(raylab_grade::baseline::STARTER_MANIFEST).is_file() {
+    if root.join(raylab_grade::regions::baseline::STARTER_MANIFEST).is_file() {
         return Ok(());
     }
     #[cfg(target_os = "linux")]
@@ -314,7 +314,7 @@ fn submission(
 
 fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> {
     let progress = progress_bar(0);
-    let rows = raylab_grade::batch::grade_all(root, dirs, out, &progress);
+    let rows = raylab_grade::submission::batch::grade_all(root, dirs, out, &progress);
     progress.finish_and_clear();
     for row in rows? {
         match row.graded {
@@ -326,7 +326,7 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> 
         "grader: grades in {}, the class page {}, each student's report.txt and results.json in {}",
         out.join("grades.csv").display(),
         out.join("index.html").display(),
-        out.join(raylab_grade::batch::STUDENTS).join("<student>").display()
+        out.join(raylab_grade::submission::batch::STUDENTS).join("<student>").display()
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -1,13 +1,13 @@
 //! Running `cargo` on the tree being graded: building its `render` binary and its checkpoint
 //! tests. The grader never links the graded code; it builds it in child processes and runs what
-//! they make, each under a time limit (see [`crate::child`]).
+//! they make, each under a time limit (see [`crate::run::child`]).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use crate::child::{run_build, ChildRun, CHILD_ENV};
 use crate::plain::quote;
+use crate::run::child::{run_build, ChildRun, CHILD_ENV};
 
 /// Compiling a tree may take minutes on a cold machine (its dependencies: about 2 on 2 cores);
 /// 8 leave a build that never ends (a constant whose evaluation does not stop) inside

@@ -5,7 +5,7 @@
 //! **Matching.** Each region of the instructor's tree is found in the submission by its file, its
 //! checkpoint and the function whose body it is. A region whose markers were moved, renamed or
 //! deleted, or whose file is gone, is "not found" and counts as not done; a region still the
-//! starter's stub is "not started"; a region that fails the allow list ([`crate::allow`]) is
+//! starter's stub is "not started"; a region that fails the allow list ([`crate::regions::allow`]) is
 //! "rejected" with its file and line. In all three cases the starter's stub stands in its place.
 //! Everything else in the submission (tests, rubric, references, manifests, build scripts, new
 //! files, other functions) is ignored and listed.
@@ -22,14 +22,14 @@ use std::path::{Path, PathBuf};
 
 use std::collections::BTreeMap;
 
-use crate::allow::check_region;
-use crate::baseline::{ignored_files, Baseline};
-use crate::lexer::line_at;
-use crate::markers::{find_regions, Found, Region, REGION_CHECKPOINTS};
 use crate::plain::{kind, read_text, FileKind, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
-use crate::scratch::{copy_tree, write_if_changed};
-use crate::stub::{is_stub, region_bodies, region_function, stub_regions};
+use crate::regions::allow::check_region;
+use crate::regions::baseline::{ignored_files, Baseline};
+use crate::regions::lexer::line_at;
+use crate::regions::markers::{find_regions, Found, Region, REGION_CHECKPOINTS};
+use crate::regions::stub::{is_stub, region_bodies, region_function, stub_regions};
+use crate::submission::scratch::{copy_tree, write_if_changed};
 
 /// The renderer's crate root, which the scratch tree extends with the `graded` module.
 const LIB: &str = "src/lib.rs";
@@ -152,7 +152,7 @@ impl Submission {
     }
 }
 
-pub use crate::baseline::HIDDEN_DIRS;
+pub use crate::regions::baseline::HIDDEN_DIRS;
 
 /// A submission's region file: its text and regions, or why it gives none (missing, not a plain
 /// file, too large, not UTF-8, does not lex).

@@ -4,7 +4,7 @@
 //! A `DIR` whose tree is at its top (it holds `src/`), or down a chain of single folders, is one
 //! submission; any other `DIR` holds one submission per entry, a folder or a `.zip` (a folder of
 //! folders, as Gradescope's and GitHub Classroom's downloads unpack), and is never taken for one
-//! student's tree. A `.zip` is unpacked first by [`crate::unpack`] (into `OUT/.work/unpacked/`,
+//! student's tree. A `.zip` is unpacked first by [`crate::submission::unpack`] (into `OUT/.work/unpacked/`,
 //! removed once graded), wherever it appears: the download itself, or a student's upload inside
 //! it; a submission whose tree is one folder down is found there. Each submission gets
 //! `OUT/students/<name>/results.json` and `report.txt`; the class gets `OUT/grades.csv` (student,
@@ -24,10 +24,10 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 use raylab_base::image_io::write_file_atomic;
 
-use crate::html::escape;
 use crate::plain::{is_plain_dir, kind, FileKind};
+use crate::report::html::escape;
+use crate::submission::unpack::unpack_zip;
 use crate::submission::{grade_submission, results_json, text, SubmissionReport};
-use crate::unpack::unpack_zip;
 
 /// One student's outcome.
 pub struct Row {

@@ -1,7 +1,7 @@
 //! Solution regions found by their markers, read as Rust tokens rather than searched for as text.
 //!
 //! A region is the whole body of one function, between two line comments each alone on its
-//! line: `// BEGIN SOLUTION checkpointN` and `// END SOLUTION`. Found with [`crate::lexer`], a
+//! line: `// BEGIN SOLUTION checkpointN` and `// END SOLUTION`. Found with [`super::lexer`], a
 //! marker inside a string, a block comment or a doc comment is no marker; one that is not at the
 //! top level of a function body (inside a nested block, between items) marks nothing; an END
 //! counts only in the same block as its BEGIN, with every bracket between them closed. Line
@@ -10,7 +10,7 @@
 use std::ops::Range;
 use std::path::PathBuf;
 
-use crate::lexer::{tokens, Kind, LexError, Token};
+use crate::regions::lexer::{tokens, Kind, LexError, Token};
 
 /// Checkpoints that can have solution regions.
 pub const REGION_CHECKPOINTS: std::ops::RangeInclusive<u32> = 1..=9;

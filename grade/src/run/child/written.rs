@@ -17,7 +17,7 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use crate::sandbox::Budget;
+use crate::run::sandbox::Budget;
 
 /// Bytes and entries under some folders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -117,7 +117,7 @@ mod tests {
     /// Only what is added counts; many files under the per-file limit add up.
     #[test]
     fn the_budget_counts_what_is_added_over_all_files() {
-        let own = crate::child::OwnFolder::new().unwrap();
+        let own = crate::run::child::OwnFolder::new().unwrap();
         let dir = own.path().to_path_buf();
         std::fs::write(dir.join("before.bin"), vec![1u8; 1 << 20]).unwrap();
         let mut watch = Watch::start(std::slice::from_ref(&dir), Budget { bytes: 1 << 20, entries: 100 });
@@ -133,7 +133,7 @@ mod tests {
     /// Empty files cost no bytes but an inode each.
     #[test]
     fn the_budget_counts_entries() {
-        let own = crate::child::OwnFolder::new().unwrap();
+        let own = crate::run::child::OwnFolder::new().unwrap();
         let dir = own.path().to_path_buf();
         let mut watch = Watch::start(std::slice::from_ref(&dir), Budget { bytes: 1 << 20, entries: 10 });
         std::fs::create_dir(dir.join("sub")).unwrap();

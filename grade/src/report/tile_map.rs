@@ -11,8 +11,8 @@
 
 use image::{Rgb, RgbImage};
 
-use crate::heatmap::grey;
 use crate::noisy::{Direction, NoisyVerdict};
+use crate::report::heatmap::grey;
 
 /// The caption that explains the colours.
 pub const LEGEND: &str =

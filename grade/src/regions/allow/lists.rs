@@ -96,7 +96,7 @@ pub const HARNESS_NAMES: &[&str] = &[
     "wide",
     "WideBvh",
     "collapse",
-    // The grader's switch between a submission's code and the solution's (see `crate::splice`).
+    // The grader's switch between a submission's code and the solution's (see `crate::submission::splice`).
     "graded",
     // Reading and writing files, and rendering whole images.
     "load",

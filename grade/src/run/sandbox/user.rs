@@ -107,7 +107,7 @@ pub fn become_user(uid: u32) -> Result<(), String> {
 /// What of the instructor's tree the starter does not ship: the solution's source and the hidden
 /// files (references, scenes, tests, rubric).
 pub const INSTRUCTOR_ONLY: [&str; 3] =
-    ["src", crate::baseline::HIDDEN_DIRS[0], crate::baseline::HIDDEN_DIRS[1]];
+    ["src", crate::regions::baseline::HIDDEN_DIRS[0], crate::regions::baseline::HIDDEN_DIRS[1]];
 
 /// Closes [`INSTRUCTOR_ONLY`] of the instructor's tree at `root` to everyone but its owner (mode
 /// 700 on each folder), before a submission is graded from it: the hidden references are what a

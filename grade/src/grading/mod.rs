@@ -4,7 +4,9 @@
 //! Grading is a function of (the tree to build and test, its rubric, scenes and references):
 //! everything is found under [`GradeOptions::root`], never the current directory.
 //!
-//! Who loses a failed scene's points, and what its row says, is [`crate::points`]' concern.
+//! Who loses a failed scene's points, and what its row says, is [`points`]' concern.
+
+pub mod points;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -13,20 +15,20 @@ use std::time::{Duration, Instant};
 use image::RgbImage;
 use indicatif::ProgressBar;
 
-use crate::cargo::{build_renderer, BUILD_TIME_LIMIT};
-use crate::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
 use crate::features::Masks;
 use crate::fingerprint::{Fingerprints, Naming};
+use crate::grading::points::{explain_stub_stop, scene_status, score_checkpoint, Context, TestRuns};
 use crate::images::{film_to_image, read_png};
 use crate::metrics::{Comparison, Measured};
 use crate::noisy::{compare, graded_seed, tile_means, NoisyReference};
 use crate::outcome::{Blame, GradeReport, Needed, Phases, SceneResult, SceneStatus};
-use crate::points::{explain_stub_stop, scene_status, score_checkpoint, Context, TestRuns};
 use crate::reference::{load_reference, load_tile_reference, Manifest};
+use crate::regions::stub::stubbed_checkpoints;
 use crate::rubric::{Check, Checkpoint, GradedScene, Rubric, TileTest};
+use crate::run::cargo::{build_renderer, BUILD_TIME_LIMIT};
+use crate::run::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
+use crate::run::unit_tests::{build_tests, TestRun};
 use crate::ssim::SsimMap;
-use crate::stub::stubbed_checkpoints;
-use crate::unit_tests::{build_tests, TestRun};
 use raylab_base::film::Film;
 use raylab_base::image_io::read_pfm;
 
@@ -48,7 +50,7 @@ pub struct GradeOptions {
     /// Cargo's target folder for the tree's builds (its own `target/` if `None`).
     pub target: Option<PathBuf>,
     /// Environment added for every render and test child (which checkpoints run a submission's
-    /// code, see [`crate::splice`]).
+    /// code, see [`crate::submission::splice`]).
     pub env: Vec<(String, String)>,
     /// The checkpoints that are still the starter's stubs, if known (else read from the code).
     pub not_started: Option<Vec<u32>>,
@@ -65,7 +67,7 @@ pub struct GradeOptions {
     /// the reference solution's (calibration variants of later checkpoints): never for a
     /// submission, whose triangle test, boxes and traversal are judged in every render.
     pub wide_tile_renders: bool,
-    /// Who loses a failed scene's points ([`crate::points`]).
+    /// Who loses a failed scene's points ([`crate::grading::points`]).
     pub blame: Blame,
 }
 

@@ -1,4 +1,10 @@
-//! Reports of a grading run: the text table, Gradescope's `results.json`, and the pictures.
+//! Reports of a grading run: the text table, Gradescope's `results.json`, and the pictures; the
+//! one self-contained HTML page ([`html`]) with its difference heat maps ([`heatmap`](mod@heatmap)) and a
+//! noisy scene's signed tile map ([`tile_map`](mod@tile_map)).
+
+pub mod heatmap;
+pub mod html;
+pub mod tile_map;
 
 use std::fmt::Write;
 use std::path::Path;
@@ -6,11 +12,11 @@ use std::path::Path;
 use serde_json::json;
 
 use crate::fingerprint::Naming;
-use crate::heatmap::heatmap;
 use crate::images::write_png;
 use crate::outcome::{GradeReport, SceneStatus};
+use crate::report::heatmap::heatmap;
+use crate::report::tile_map::tile_map;
 use crate::rubric::Checkpoint;
-use crate::tile_map::tile_map;
 
 /// The table a person reads: per scene, every check; then per checkpoint, the points and why
 /// points were lost, with the handout to read.
@@ -177,6 +183,16 @@ pub fn named_text(scene: &str, named: &Naming) -> String {
         "scene {scene} looks like a known mistake of checkpoint {}: {} ({:.4} to that mistake's render, {:.4} to the reference); read {}, section \"Symptoms of common mistakes\"",
         e.checkpoint, e.description, named.to_mistake, named.to_reference, e.handout
     )
+}
+
+/// "checkpoint 3", "checkpoints 3 and 4", "checkpoints 3, 4 and 5".
+pub fn checkpoints_text(ids: &[u32]) -> String {
+    let names: Vec<String> = ids.iter().map(u32::to_string).collect();
+    match names.as_slice() {
+        [one] => format!("checkpoint {one}"),
+        [first @ .., last] => format!("checkpoints {} and {last}", first.join(", ")),
+        [] => "no checkpoint".to_string(),
+    }
 }
 
 fn round2(x: f64) -> f64 {

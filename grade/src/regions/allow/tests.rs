@@ -2,7 +2,7 @@
 //! declarations, macros by example and attributes, each form with what a region may do with it.
 
 use super::*;
-use crate::stub::{region_bodies, rust_files};
+use crate::regions::stub::{region_bodies, rust_files};
 
 /// Every region of the reference solution, with its checkpoint.
 fn solution_regions() -> Vec<(u32, String)> {

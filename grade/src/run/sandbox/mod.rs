@@ -18,7 +18,7 @@
 //!   abstract sockets to the sandbox where the kernel has it (ABI 6).
 //! - **user** ([`user`]): where the grader is root, graded code runs as a user of its own that
 //!   owns nothing but its folders.
-//! - **bytes written** ([`crate::child::written`]): the grader stops a child whose folders grow
+//! - **bytes written** ([`crate::run::child::written`]): the grader stops a child whose folders grow
 //!   past a budget, over all files.
 //! - **resources** (rlimits, [`Limits`]): address space, CPU time, file size,
 //!   no core dumps.
@@ -26,12 +26,12 @@
 //!   (`PR_SET_PDEATHSIG`), so a killed grader leaves nothing running; a graded process cannot
 //!   start another process, so nothing outlives it.
 //!
-//! Why this makes the per-checkpoint switch unreachable ([`crate::splice`]): the switch is read
+//! Why this makes the per-checkpoint switch unreachable ([`crate::submission::splice`]): the switch is read
 //! in the graded process; running the solution instead needs a second process started without it,
 //! and no graded process can start one.
 //!
 //! Outside Linux, and when no launcher is set (the library's own tests), graded processes run
-//! with the resource limits only; [`crate::probe::check`] says which walls this machine gives.
+//! with the resource limits only; [`crate::run::probe::check`] says which walls this machine gives.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};

@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use crate::child::run_with_limit;
+use crate::run::child::run_with_limit;
 #[cfg(target_os = "linux")]
-use crate::sandbox::user;
-use crate::sandbox::{launcher_path, on_path, with_user, wrap, Limits, Profile, Wall, Walls};
+use crate::run::sandbox::user;
+use crate::run::sandbox::{launcher_path, on_path, with_user, wrap, Limits, Profile, Wall, Walls};
 
 /// The first argument that makes the grader's executable a probe.
 pub const PROBE: &str = "__probe";

@@ -6,14 +6,14 @@
 //! ends or its wall-clock time is up: nothing it started outlives it. Children that run graded
 //! code ([`run_graded`]) also get resource limits that hold even for root (address space, CPU
 //! time, the size of any file they write), a folder of their own, and the sandbox's walls where
-//! the grader set a launcher ([`crate::sandbox`]).
+//! the grader set a launcher ([`crate::run::sandbox`]).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 use crate::plain::quote;
-use crate::sandbox::{Budget, Limits, Profile, Walls};
+use crate::run::sandbox::{Budget, Limits, Profile, Walls};
 
 pub mod written;
 
@@ -230,12 +230,12 @@ pub fn run_build(command: Command, limit: Duration, tree: &Path, target: &Path) 
 /// first folder it may write.
 fn run_walled(mut command: Command, limit: Duration, walls: Walls) -> std::io::Result<ChildRun> {
     command.env("TMPDIR", &walls.write[0]);
-    let Some(launcher) = crate::sandbox::launcher_path() else {
+    let Some(launcher) = crate::run::sandbox::launcher_path() else {
         return run_watched(command, limit, Some(walls.limits), Some((&walls.write, walls.limits.written)));
     };
-    let without = crate::sandbox::left_out();
-    let walls = crate::sandbox::with_user(walls, &command, &without)?;
-    let wrapped = crate::sandbox::wrap(launcher, &command, &walls, &without);
+    let without = crate::run::sandbox::left_out();
+    let walls = crate::run::sandbox::with_user(walls, &command, &without)?;
+    let wrapped = crate::run::sandbox::wrap(launcher, &command, &walls, &without);
     let mut run = run_watched(wrapped, limit, None, Some((&walls.write, walls.limits.written)))?;
     run.limits = Some(walls.limits);
     Ok(run)

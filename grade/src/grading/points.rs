@@ -29,10 +29,10 @@ use std::collections::BTreeMap;
 
 use crate::noisy::tile_origin;
 use crate::outcome::{Blame, CheckpointResult, SceneResult, SceneStatus};
-use crate::report::{hint_text, named_text};
+use crate::regions::stub::stub_panic;
+use crate::report::{checkpoints_text, hint_text, named_text};
 use crate::rubric::{Checkpoint, GradedScene, Metric};
-use crate::stub::stub_panic;
-use crate::unit_tests::TestRun;
+use crate::run::unit_tests::TestRun;
 
 /// A reason names this many failing tests; `cargo test checkpointN` shows them all.
 const SHOWN_FAILURES: usize = 3;
@@ -110,16 +110,6 @@ enum Judged {
     Kept(String),
     /// The checkpoint loses them: why, and whether its own code is to blame (its hint is shown).
     Lost { reason: String, blamed: bool },
-}
-
-/// "checkpoint 3", "checkpoints 3 and 4", "checkpoints 3, 4 and 5".
-pub fn checkpoints_text(ids: &[u32]) -> String {
-    let names: Vec<String> = ids.iter().map(u32::to_string).collect();
-    match names.as_slice() {
-        [one] => format!("checkpoint {one}"),
-        [first @ .., last] => format!("checkpoints {} and {last}", first.join(", ")),
-        [] => "no checkpoint".to_string(),
-    }
 }
 
 /// Judges a failed scene for checkpoint `id` (module docs); `label` begins the reason.

@@ -42,7 +42,7 @@ use syn::parse::Parser;
 use syn::punctuated::Punctuated;
 use syn::visit::Visit;
 
-use crate::lexer::{line_at, nesting, tokens, Kind};
+use crate::regions::lexer::{line_at, nesting, tokens, Kind};
 
 /// Why a region was rejected: the first thing found, at a line counted from the region's first
 /// line (1 is the line after `// BEGIN SOLUTION`).

@@ -2,26 +2,31 @@
 //! judged on its own.
 //!
 //! The submission's regions are spliced into a scratch copy of the instructor's tree
-//! ([`crate::splice`]), built once, and graded twice over: checkpoint N *on its own* (its regions
-//! from the submission, the solution's everywhere else: the grade), and the *whole renderer*
+//! ([`splice`]), built once, and graded twice over: checkpoint N *on its own* (its regions from
+//! the submission, the solution's everywhere else: the grade), and the *whole renderer*
 //! (every region from the submission: shown beside it). A bug in checkpoint 2 then costs
 //! checkpoint 2's points only; where the two differ, the whole renderer's reason names the
 //! checkpoint to blame.
+
+pub mod batch;
+pub mod scratch;
+pub mod splice;
+pub mod unpack;
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
 
-use crate::baseline::{starter_manifest, Baseline, StarterManifest};
-use crate::cargo::{error_code, error_place, BUILD_TIME_LIMIT};
 use crate::grading::{grade, GradeOptions};
 use crate::outcome::{Blame, CheckpointResult, GradeReport, Phases};
 use crate::plain::is_plain_dir;
+use crate::regions::baseline::{starter_manifest, Baseline, StarterManifest};
 use crate::report::gradescope_json;
 use crate::rubric::Rubric;
-use crate::splice::{read_submission, write_spliced_tree, Submission, Taken, STUDENT_ENV};
-use crate::unit_tests::build_tests;
+use crate::run::cargo::{error_code, error_place, BUILD_TIME_LIMIT};
+use crate::run::unit_tests::build_tests;
+use crate::submission::splice::{read_submission, write_spliced_tree, Submission, Taken, STUDENT_ENV};
 
 /// A graded submission.
 #[derive(Clone, Debug)]
@@ -229,7 +234,7 @@ pub fn text(report: &SubmissionReport) -> String {
         report.phases.tests,
                 report.phases.renders
     );
-    if let Some(note) = crate::sandbox::missing_note() {
+    if let Some(note) = crate::run::sandbox::missing_note() {
         let _ = writeln!(out, "{note}");
     }
     lists(

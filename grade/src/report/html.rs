@@ -7,12 +7,12 @@ use std::fmt::Write;
 use base64::Engine;
 use image::RgbImage;
 
-use crate::heatmap::heatmap;
 use crate::noisy::{tile_origin, NoisyVerdict};
 use crate::outcome::{GradeReport, SceneResult, SceneStatus};
+use crate::report::heatmap::heatmap;
 use crate::report::named_text;
+use crate::report::tile_map::{tile_map, LEGEND};
 use crate::rubric::TileTest;
-use crate::tile_map::{tile_map, LEGEND};
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:2em;background:#fafafa;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{padding:.3em .8em;border-bottom:1px solid #ddd;text-align:left}\
@@ -79,7 +79,7 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         [] => rendered,
         ids => format!(
             "{rendered}; {} not written yet, so drawn by {} stand-in (the same picture, no points for {})",
-            crate::points::checkpoints_text(ids),
+            crate::report::checkpoints_text(ids),
             if ids.len() > 1 { "their" } else { "its" },
             if ids.len() > 1 { "them" } else { "it" }
         ),

@@ -1,6 +1,6 @@
 //! Pictures of where two images differ, over a faint grey copy of the reference so the scene
 //! stays recognisable: local dissimilarity `1 − SSIM`, from black (same) through red to yellow
-//! (`1 − SSIM ≥ 0.5`). A noisy scene's picture is [`crate::tile_map`].
+//! (`1 − SSIM ≥ 0.5`). A noisy scene's picture is [`tile_map`](mod@crate::report::tile_map).
 
 use image::{Rgb, RgbImage};
 

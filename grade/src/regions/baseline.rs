@@ -14,10 +14,10 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::markers::{find_regions, Region, REGION_CHECKPOINTS};
 use crate::plain::{kind, quote, read_plain, walk, FileKind, MAX_FILE_BYTES};
 use crate::reference::fnv1a_hex;
-use crate::stub::{region_bodies, rust_files};
+use crate::regions::markers::{find_regions, Region, REGION_CHECKPOINTS};
+use crate::regions::stub::{region_bodies, rust_files};
 
 /// The starter's manifest, relative to the starter (never in the instructor's tree).
 pub const STARTER_MANIFEST: &str = "grade/starter-manifest.json";

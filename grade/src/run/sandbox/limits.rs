@@ -1,6 +1,6 @@
 //! The resource wall: what a graded child may use beyond its wall-clock time. The kernel holds
 //! the first two even for root (`setrlimit` in the child before it runs); the grader watches the
-//! third ([`crate::child::written`]).
+//! third ([`crate::run::child::written`]).
 
 /// Resource limits for a child, beyond its wall-clock time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -9,7 +9,7 @@ pub struct Limits {
     pub memory: u64,
     /// Largest file the child may write, in bytes (`RLIMIT_FSIZE`).
     pub file_size: u64,
-    /// What it may add to the folders it may write, over all files (watched by [`crate::child::written`]).
+    /// What it may add to the folders it may write, over all files (watched by [`crate::run::child::written`]).
     pub written: Budget,
 }
 

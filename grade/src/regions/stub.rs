@@ -5,10 +5,10 @@
 //! body no longer uses, and panics with `todo!("checkpoint N: <the function's first doc
 //! sentence>")`, so that the starter builds without warnings and says what to write.
 
-use crate::markers::find_regions;
+use crate::regions::markers::find_regions;
 
 /// The byte ranges of the bodies of `checkpoint`'s solution regions in `text` (see
-/// [`crate::markers`]); none if the text does not lex.
+/// [`crate::regions::markers`]); none if the text does not lex.
 pub fn region_bodies(text: &str, checkpoint: u32) -> Vec<std::ops::Range<usize>> {
     let found = find_regions(text).unwrap_or_default();
     found.into_iter().filter(|f| f.checkpoint == checkpoint).map(|f| f.body).collect()

@@ -10,10 +10,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use crate::cargo::{cargo, executables, first_error, target_dir};
-use crate::child::{graded_reads, run_build, run_graded, OwnFolder, CHILD_ENV};
 use crate::plain::quote;
-use crate::stub::stub_panic;
+use crate::regions::stub::stub_panic;
+use crate::run::cargo::{cargo, executables, first_error, target_dir};
+use crate::run::child::{graded_reads, run_build, run_graded, OwnFolder, CHILD_ENV};
 
 /// What one `cargo test <filter>` run found.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -29,7 +29,7 @@ pub struct TestRun {
     /// The first failing test and what it said (for a student: where to look first).
     pub first_failure: Option<(String, String)>,
     /// The failing tests that stopped in a stub's `todo!()`, with the stub's checkpoint, as
-    /// their panic message says ([`crate::stub::stub_panic`]).
+    /// their panic message says ([`crate::regions::stub::stub_panic`]).
     pub stub_panics: Vec<(String, u32)>,
 }
 
@@ -186,7 +186,7 @@ impl TestBinaries {
 }
 
 /// What a failed test said: the panic message libtest printed, or why the process ended.
-fn failure_message(run: &crate::child::ChildRun, limit: Duration) -> String {
+fn failure_message(run: &crate::run::child::ChildRun, limit: Duration) -> String {
     let lines: Vec<&str> = run.stdout.lines().collect();
     let message =
         lines.iter().position(|l| l.contains("panicked at")).and_then(|i| lines.get(i + 1)).map(|l| quote(l));
