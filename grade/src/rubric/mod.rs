@@ -12,10 +12,13 @@
 //! a hidden scene is graded like a public one, against `hidden/reference/`, and reports show it by
 //! name and result but never its images.
 
-use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
+
+mod rules;
+
+pub use rules::RuleBroken;
 
 /// The whole rubric.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -33,7 +36,7 @@ pub struct Rubric {
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Checkpoint {
-    /// 1 to 7.
+    /// 1, 2, 3, ... in order.
     pub id: u32,
     /// Short title.
     pub title: String,
@@ -317,95 +320,14 @@ impl Rubric {
             scene.hidden = true;
             self.scenes.push(scene);
         }
-        self.validate(root)
+        self.validate(root).map_err(|e| e.to_string())
     }
 
     /// The checks `rustlings dev check` would make: ids in order, files exist, every scene
-    /// grades known checkpoints, every check is well-formed, every image point has a scene.
-    pub fn validate(&self, root: &Path) -> Result<(), String> {
-        let ids: Vec<u32> = self.checkpoints.iter().map(|c| c.id).collect();
-        if ids != (1..=ids.len() as u32).collect::<Vec<_>>() {
-            return Err(format!("checkpoint ids must be 1, 2, 3, ... in order, got {ids:?}"));
-        }
-        for c in &self.checkpoints {
-            if !root.join(&c.handout).is_file() {
-                return Err(format!("checkpoint {}: handout {} does not exist", c.id, c.handout.display()));
-            }
-            if c.test_points < 0.0 || c.image_points < 0.0 || c.hint.trim().is_empty() {
-                return Err(format!(
-                    "checkpoint {}: points must not be negative and the hint not empty",
-                    c.id
-                ));
-            }
-        }
-        let mut graded = BTreeSet::new();
-        let mut names = BTreeSet::new();
-        for s in &self.scenes {
-            if !names.insert(&s.name) {
-                return Err(format!("scene {} appears twice", s.name));
-            }
-            if !root.join(&s.file).is_file() {
-                return Err(format!("scene {}: {} does not exist", s.name, s.file.display()));
-            }
-            if s.spp == 0
-                || s.reference_spp < s.spp
-                || s.grades.is_empty()
-                || s.checks.is_empty() == s.tile_test.is_none()
-            {
-                return Err(format!(
-                    "scene {}: needs spp >= 1, reference_spp >= spp, grades, and either checks or a tile_test",
-                    s.name
-                ));
-            }
-            if let Some(t) = &s.tile_test {
-                if t.renders < 2
-                    || t.reference_renders < 2
-                    || t.solution_renders < 2
-                    || t.renders > 1 << 16
-                    || t.tile == 0
-                    || !(t.alpha > 0.0 && t.alpha < 1.0)
-                    || s.seed >= 1 << 24
-                {
-                    return Err(format!(
-                        "scene {}: tile_test needs 2 to 65536 renders of each kind, a tile of at least 1 pixel, 0 < alpha < 1 and a seed below 2^24 (crate::noisy::graded_seed)",
-                        s.name
-                    ));
-                }
-            }
-            if let Some(g) = s.grades.iter().chain(&s.depends_on).find(|g| !ids.contains(g)) {
-                return Err(format!("scene {}: names unknown checkpoint {g}", s.name));
-            }
-            if let Some(g) = s.grades.iter().chain(&s.stand_ins).find(|g| !s.depends_on.contains(g)) {
-                return Err(format!(
-                    "scene {}: grades or stands in for checkpoint {g} but does not depend on it",
-                    s.name
-                ));
-            }
-            graded.extend(s.grades.iter().map(|&g| (g, s.hidden)));
-            for check in &s.checks {
-                if check.metric.needs_mask() != check.mask.is_some()
-                    || check.min.is_some() == check.max.is_some()
-                    || check.metric == Metric::TileTest
-                {
-                    return Err(format!(
-                        "scene {}: {check:?} needs a mask exactly for mask metrics, and one of min or max (a tile test is a [scene.tile_test])",
-                        s.name
-                    ));
-                }
-            }
-        }
-        for c in &self.checkpoints {
-            let hidden_points = c.hidden.as_ref().map_or(0.0, |h| h.image_points);
-            for (points, hidden, what) in [(c.image_points, false, ""), (hidden_points, true, "hidden ")] {
-                if (points > 0.0) != graded.contains(&(c.id, hidden)) {
-                    return Err(format!(
-                        "checkpoint {}: {what}image points and {what}scenes grading it go together",
-                        c.id
-                    ));
-                }
-            }
-        }
-        Ok(())
+    /// grades known checkpoints, every check is well-formed, every image point has a scene. The
+    /// first rule broken, as a [`RuleBroken`] (each variant is one rule).
+    pub fn validate(&self, root: &Path) -> Result<(), RuleBroken> {
+        rules::check(self, root)
     }
 
     /// Total points counted, hidden ones included, the extras' not.
