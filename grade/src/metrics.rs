@@ -3,7 +3,7 @@
 use image::RgbImage;
 
 use crate::features::Masks;
-use crate::rubric::{Check, Mask, Metric};
+use crate::rubric::{Check, Mask, Metric, Threshold};
 use crate::ssim::SsimMap;
 use raylab_base::image_io::srgb_to_linear;
 
@@ -50,10 +50,10 @@ impl<'a> Comparison<'a> {
             (Metric::MaskRmse, Some(mask)) => self.linear_rmse(mask),
             (Metric::MaskSsim | Metric::MaskRmse, None) | (Metric::TileTest, _) => f64::NAN,
         };
-        let passed = match (check.min, check.max) {
-            (Some(min), _) => value >= min,
-            (_, Some(max)) => value <= max,
-            (None, None) => false,
+        let passed = match check.threshold {
+            Threshold::AtLeast(min) => value >= min,
+            Threshold::AtMost(max) => value <= max,
+            Threshold::Diagnostic => false,
         };
         Measured { value, passed }
     }

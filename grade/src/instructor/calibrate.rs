@@ -23,7 +23,7 @@ use serde_json::Value;
 
 use crate::grading::{grade, GradeOptions};
 use crate::outcome::GradeReport;
-use crate::rubric::{GradedScene, Rubric};
+use crate::rubric::{GradedScene, Rubric, Threshold};
 use raylab_base::stats::{binomial_at_least, clopper_pearson};
 
 /// A count of false fails whose binomial tail under `alpha` is below this is too many.
@@ -296,7 +296,7 @@ pub fn markdown(runs: &[Run], rubric: &Rubric) -> String {
                 .enumerate()
                 .map(|(i, c)| {
                     let xs = extremes.get(&(i, correct)).cloned().unwrap_or_default();
-                    let lower_is_better = c.max.is_some();
+                    let lower_is_better = matches!(c.threshold, Threshold::AtMost(_));
                     // For a similarity the worst correct is the lowest and the best wrong the highest.
                     let pick = |xs: &[f64], low: bool| {
                         xs.iter().copied().reduce(if low { f64::min } else { f64::max })

@@ -179,18 +179,51 @@ pub struct TileTest {
 
 /// One requirement on a render, compared with the reference.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "CheckFile")]
 pub struct Check {
     /// Which number.
     pub metric: Metric,
     /// For mask metrics: which mask.
     pub mask: Option<Mask>,
-    /// The render passes if the number is at least this (similarities)...
-    pub min: Option<f64>,
-    /// ...or at most this (errors).
-    pub max: Option<f64>,
+    /// What the number must be to pass.
+    pub threshold: Threshold,
     /// Why this threshold: the calibration it comes from.
     pub why: String,
+}
+
+/// What a check's number must be.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Threshold {
+    /// At least this (similarities: `min = ...` in the rubric).
+    AtLeast(f64),
+    /// At most this (errors: `max = ...`).
+    AtMost(f64),
+    /// Shown, deciding nothing (never in a rubric: the SSIM beside a tile test).
+    Diagnostic,
+}
+
+/// A check as the rubric writes it: exactly one of `min` and `max`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CheckFile {
+    metric: Metric,
+    mask: Option<Mask>,
+    min: Option<f64>,
+    max: Option<f64>,
+    why: String,
+}
+
+impl TryFrom<CheckFile> for Check {
+    type Error = String;
+
+    fn try_from(c: CheckFile) -> Result<Check, String> {
+        let threshold = match (c.min, c.max) {
+            (Some(min), None) => Threshold::AtLeast(min),
+            (None, Some(max)) => Threshold::AtMost(max),
+            _ => return Err(format!("a {:?} check needs exactly one of min or max", c.metric)),
+        };
+        Ok(Check { metric: c.metric, mask: c.mask, threshold, why: c.why })
+    }
 }
 
 /// The numbers a check can ask for.
@@ -241,21 +274,26 @@ impl Check {
 
     /// The check of a tile-tested scene: no tile may fail.
     pub fn tile_test(test: &TileTest) -> Check {
-        Check { metric: Metric::TileTest, mask: None, min: None, max: Some(0.0), why: test.why.clone() }
+        Check {
+            metric: Metric::TileTest,
+            mask: None,
+            threshold: Threshold::AtMost(0.0),
+            why: test.why.clone(),
+        }
     }
 
     /// A number shown beside the checks that decides nothing (SSIM of a noisy render).
     pub fn diagnostic(metric: Metric) -> Check {
         let why = "a diagnostic: two correct noisy renders differ, so it decides nothing".to_string();
-        Check { metric, mask: None, min: None, max: None, why }
+        Check { metric, mask: None, threshold: Threshold::Diagnostic, why }
     }
 
     /// The threshold as text: `>= 0.990` or `<= 0.020`.
     pub fn threshold_text(&self) -> String {
-        match (self.min, self.max) {
-            (Some(min), _) => format!(">= {min:.4}"),
-            (_, Some(max)) => format!("<= {max:.4}"),
-            (None, None) => "diagnostic".to_string(),
+        match self.threshold {
+            Threshold::AtLeast(min) => format!(">= {min:.4}"),
+            Threshold::AtMost(max) => format!("<= {max:.4}"),
+            Threshold::Diagnostic => "diagnostic".to_string(),
         }
     }
 }
@@ -339,6 +377,21 @@ impl Rubric {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A check's threshold is a bound or the other, never both or neither: the rubric that
+    /// writes either is refused as it is read, with the check named.
+    #[test]
+    fn a_check_has_exactly_one_of_min_and_max() {
+        let check =
+            |bounds: &str| toml::from_str::<Check>(&format!("metric = \"ssim\"\n{bounds}\nwhy = \"x\"\n"));
+        assert_eq!(check("min = 0.5").unwrap().threshold, Threshold::AtLeast(0.5));
+        assert_eq!(check("max = 0.5").unwrap().threshold, Threshold::AtMost(0.5));
+        for bounds in ["min = 0.5\nmax = 0.6", ""] {
+            let error = check(bounds).unwrap_err().to_string();
+            assert!(error.contains("a Ssim check needs exactly one of min or max"), "{error}");
+        }
+        assert!(check("min = 0.5\nmean = 1").is_err(), "unknown fields are still refused");
+    }
 
     /// Every test a checkpoint runs first is a test of that checkpoint: a misspelt name would
     /// silently run in libtest's order instead.

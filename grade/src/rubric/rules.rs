@@ -86,14 +86,6 @@ pub enum RuleBroken {
         /// The check's metric.
         metric: Metric,
     },
-    /// A check has exactly one bound: a minimum (similarities) or a maximum (errors).
-    #[error("scene {scene}: a {metric:?} check needs exactly one of min or max")]
-    Bound {
-        /// The scene.
-        scene: String,
-        /// The check's metric.
-        metric: Metric,
-    },
     /// A tile test is written as `[scene.tile_test]`, never as a check.
     #[error("scene {0}: a tile test is a [scene.tile_test], not a check")]
     TileTestAsCheck(String),
@@ -199,9 +191,6 @@ fn check_scene(s: &super::GradedScene, ids: &[u32], root: &Path) -> Result<(), R
         if metric.needs_mask() != check.mask.is_some() {
             return Err(RuleBroken::Mask { scene: scene(), metric });
         }
-        if check.min.is_some() == check.max.is_some() {
-            return Err(RuleBroken::Bound { scene: scene(), metric });
-        }
     }
     Ok(())
 }
@@ -280,10 +269,6 @@ mod tests {
                     masked.expect("a masked check").mask = None;
                 }),
                 |e| matches!(e, RuleBroken::Mask { .. }),
-            ),
-            (
-                Box::new(|r| (checked(r).checks[0].min, checked(r).checks[0].max) = (Some(0.5), Some(0.5))),
-                |e| matches!(e, RuleBroken::Bound { .. }),
             ),
             (Box::new(|r| checked(r).checks[0].metric = Metric::TileTest), |e| {
                 matches!(e, RuleBroken::TileTestAsCheck(_))
