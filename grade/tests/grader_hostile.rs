@@ -11,6 +11,10 @@
 //!   regions (uploaded as a zip) hold another. None may appear in any output: grades.csv, the class page, any other
 //!   student's report.txt or results.json, the grader's stdout or stderr.
 
+// The hostile submissions are made by the instructor's fixtures (`instructor::fixture`); the
+// starter, which has neither, leaves this file out.
+#![cfg(feature = "instructor")]
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
