@@ -12,8 +12,9 @@ use std::time::{Duration, Instant};
 
 use crate::plain::quote;
 use crate::regions::stub::stub_panic;
-use crate::run::cargo::{cargo, executables, first_error, target_dir};
-use crate::run::child::{graded_reads, run_build, run_graded, OwnFolder, CHILD_ENV};
+use crate::run::build_error::BuildError;
+use crate::run::cargo::{build, executables};
+use crate::run::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
 
 /// What one `cargo test <filter>` run found.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -79,39 +80,30 @@ pub struct TestBinaries {
 /// here, in the dev profile the grader builds).
 const TEST_TIME_LIMIT: Duration = Duration::from_secs(10);
 
-/// Compiles the checkpoint test binaries once (`cargo test --no-run`) and lists their tests;
-/// `Err` carries the first compiler error.
-pub fn build_tests(root: &Path, target: Option<&Path>, limit: Duration) -> Result<TestBinaries, String> {
-    let args =
-        [&["test", "--no-run", "--message-format=json-render-diagnostics"][..], &checkpoint_targets(root)]
-            .concat();
-    let run = run_build(cargo(root, target, &args), limit, root, &target_dir(root, target))
-        .map_err(|e| format!("cannot run cargo: {e}"))?;
-    if !run.success() {
-        return Err(first_error(&run, limit));
-    }
+/// Compiles the checkpoint test binaries once (`cargo test --no-run`) and lists their tests.
+pub fn build_tests(root: &Path, target: Option<&Path>, limit: Duration) -> Result<TestBinaries, BuildError> {
+    let args = [&["test", "--no-run", "--message-format=json"][..], &checkpoint_targets(root)].concat();
+    let run = build(root, target, &args, limit)?;
     let binaries = executables(&run.stdout, true)
         .into_iter()
         .map(|executable| {
             let tests = list_tests(root, &executable)?;
             Ok(TestBinary { executable, tests })
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, BuildError>>()?;
     Ok(TestBinaries { binaries })
 }
 
 /// The names of the tests in a test binary (`--list` runs none of them).
-fn list_tests(root: &Path, executable: &Path) -> Result<Vec<String>, String> {
+fn list_tests(root: &Path, executable: &Path) -> Result<Vec<String>, BuildError> {
     let mut command = Command::new(executable);
     command.current_dir(root).env(CHILD_ENV, "1").args(["--list", "--format", "terse"]);
-    let own = OwnFolder::new().map_err(|e| e.to_string())?;
-    let run = run_graded(command, TEST_TIME_LIMIT, &graded_reads(root), &own).map_err(|e| e.to_string())?;
+    let cannot_start = |source| BuildError::CannotStart { program: executable.to_path_buf(), source };
+    let own = OwnFolder::new().map_err(cannot_start)?;
+    let run = run_graded(command, TEST_TIME_LIMIT, &graded_reads(root), &own).map_err(cannot_start)?;
     if !run.success() {
-        return Err(format!(
-            "cannot list the tests of {}: {}",
-            executable.display(),
-            run.failure_reason(TEST_TIME_LIMIT)
-        ));
+        let failure = run.failure(TEST_TIME_LIMIT);
+        return Err(BuildError::CannotList { executable: executable.to_path_buf(), failure });
     }
     Ok(run.stdout.lines().filter_map(|l| l.strip_suffix(": test")).map(str::to_string).collect())
 }

@@ -24,9 +24,12 @@ use crate::plain::is_plain_dir;
 use crate::regions::baseline::{starter_manifest, Baseline, StarterManifest};
 use crate::report::gradescope_json;
 use crate::rubric::Rubric;
-use crate::run::cargo::{error_code, error_place, BUILD_TIME_LIMIT};
+use crate::run::build_error::BuildError;
+use crate::run::cargo::BUILD_TIME_LIMIT;
 use crate::run::unit_tests::build_tests;
-use crate::submission::splice::{read_submission, write_spliced_tree, Submission, Taken, STUDENT_ENV};
+use crate::submission::splice::{
+    read_submission, write_spliced_tree, NotCompiling, Submission, Taken, STUDENT_ENV,
+};
 
 /// A graded submission.
 #[derive(Clone, Debug)]
@@ -72,10 +75,10 @@ pub fn grade_submission(
     progress.set_message("compiling the submission");
     let compiling = std::time::Instant::now();
     while let Err(error) = build_tests(&tree, Some(&target), BUILD_TIME_LIMIT) {
-        let place = error_place(&error);
-        if let Some(taken) = place.and_then(|(file, line)| submission.code_region_at(&tree, &file, line)) {
-            *taken = Taken::DoesNotCompile(error);
-        } else if !submission.stub_every_region(error_code(&error)) {
+        let region = error.place().and_then(|(file, line)| submission.code_region_at(&tree, file, line));
+        if let (Some(taken), BuildError::Compile(compile)) = (region, &error) {
+            *taken = Taken::DoesNotCompile(NotCompiling::Here(compile.clone()));
+        } else if !submission.stub_every_region(&error.heading()) {
             break; // the starter's stubs do not build either: the instructor's tree is at fault
         }
         write_spliced_tree(instructor, &submission, &tree)?;

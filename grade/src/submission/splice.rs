@@ -29,6 +29,7 @@ use crate::regions::baseline::{ignored_files, Baseline};
 use crate::regions::lexer::line_at;
 use crate::regions::markers::{find_regions, Found, Region, REGION_CHECKPOINTS};
 use crate::regions::stub::{is_stub, region_bodies, region_function, stub_regions};
+use crate::run::build_error::CompileError;
 use crate::submission::scratch::{copy_tree, write_if_changed};
 
 /// The renderer's crate root, which the scratch tree extends with the `graded` module.
@@ -58,8 +59,34 @@ pub enum Taken {
     NotFound(String),
     /// Code that failed the allow list: `file:line: reason`.
     Rejected(String),
-    /// Code that does not compile, replaced by the stub so the rest can be graded: the error.
-    DoesNotCompile(String),
+    /// Code that does not compile, replaced by the stub so the rest can be graded.
+    DoesNotCompile(NotCompiling),
+}
+
+/// Why a region's own code was replaced by its stub.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum NotCompiling {
+    /// The compiler's first error is in this region.
+    Here(CompileError),
+    /// With the submission's code the tree does not build, by an error in a file that is not the
+    /// student's (a hidden test, the instructor's code), of which only its heading (`error[E0308]`)
+    /// may be said.
+    Elsewhere {
+        /// `error[E0308]`, or `error`.
+        heading: String,
+    },
+}
+
+impl std::fmt::Display for NotCompiling {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NotCompiling::Here(error) => write!(f, "{error}"),
+            NotCompiling::Elsewhere { heading } => write!(
+                f,
+                "with your code the tree does not build: {heading} in a file that is not yours, which is not shown"
+            ),
+        }
+    }
 }
 
 /// The regions taken from a submission, and what was ignored.
@@ -117,15 +144,13 @@ impl Region {
 
 impl Submission {
     /// Takes every region of the submission's own code as not compiling, for a build error
-    /// (`code`, as `error[E0308]`) in a file that is not the student's: a hidden test or the
+    /// (`heading`, as `error[E0308]`) in a file that is not the student's: a hidden test or the
     /// instructor's code, which a report must not quote. `false` if there was none.
-    pub fn stub_every_region(&mut self, code: &str) -> bool {
+    pub fn stub_every_region(&mut self, heading: &str) -> bool {
         let mut any = false;
         for (_, taken) in &mut self.regions {
             if matches!(taken, Taken::Code(_)) {
-                *taken = Taken::DoesNotCompile(format!(
-                    "with your code the tree does not build: {code} in a file that is not yours, which is not shown"
-                ));
+                *taken = Taken::DoesNotCompile(NotCompiling::Elsewhere { heading: heading.to_string() });
                 any = true;
             }
         }
