@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 pub mod features;
+pub mod file_error;
 pub mod fingerprint;
 pub mod grading;
 pub mod images;

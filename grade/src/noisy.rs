@@ -44,6 +44,9 @@ use serde::{Deserialize, Serialize};
 use raylab_base::film::Film;
 use raylab_base::stats::{sidak, welch, RankTest, Summary};
 
+use crate::file_error::{FileError, Problem};
+use crate::plain::NotRead;
+
 /// Below this fraction of the solution's standard deviation a tile's renders count as not
 /// varying with the seed (module docs): 17 times below the lowest a correct render was seen at.
 pub const MIN_SPREAD: f64 = 0.01;
@@ -298,18 +301,18 @@ impl TileFile {
         NoisyReference { expected: summarise(&self.expected), solution: self.solution.clone() }
     }
 
-    /// Reads the file; errors name it.
-    pub fn read(path: &Path) -> Result<TileFile, String> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+    /// Reads the file.
+    pub fn read(path: &Path) -> Result<TileFile, FileError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| FileError::new(path, Problem::Unreadable(NotRead::Io(e.to_string()))))?;
+        serde_json::from_str(&text).map_err(|e| FileError::json(path, &e))
     }
 
     /// Writes the file (to a temporary name, then renamed).
-    pub fn write(&self, path: &Path) -> Result<(), String> {
-        let text = serde_json::to_string(self).map_err(|e| e.to_string())?;
+    pub fn write(&self, path: &Path) -> Result<(), FileError> {
+        let text = serde_json::to_string(self).expect("a tile file holds only numbers and lists");
         raylab_base::image_io::write_file_atomic(path, text.as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))
+            .map_err(|e| FileError::new(path, Problem::Unwritable(e.to_string())))
     }
 }
 

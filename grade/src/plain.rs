@@ -36,6 +36,8 @@ pub enum NotRead {
     NotPlain(&'static str),
     /// Longer than the limit.
     TooLarge(u64),
+    /// Its text is not UTF-8: the first byte that is not.
+    NotUtf8(usize),
     /// Any other error, as the system words it.
     Io(String),
 }
@@ -46,6 +48,7 @@ impl std::fmt::Display for NotRead {
             NotRead::Missing => write!(f, "missing"),
             NotRead::NotPlain(what) => write!(f, "{what}, not a plain file: never read"),
             NotRead::TooLarge(limit) => write!(f, "larger than {} KiB: not read", limit / 1024),
+            NotRead::NotUtf8(byte) => write!(f, "not UTF-8 at byte {byte}"),
             NotRead::Io(e) => write!(f, "{e}"),
         }
     }
@@ -101,12 +104,10 @@ pub fn read_plain(path: &Path, limit: u64) -> Result<Vec<u8>, NotRead> {
     Ok(bytes)
 }
 
-/// A plain file's text: `Err` says why not ("not UTF-8 at byte 12"). Line endings `\r\n` are
-/// read as `\n` (line numbers stay the same).
-pub fn read_text(path: &Path, limit: u64) -> Result<String, String> {
-    let bytes = read_plain(path, limit).map_err(|e| e.to_string())?;
-    let text = String::from_utf8(bytes)
-        .map_err(|e| format!("not UTF-8 at byte {}", e.utf8_error().valid_up_to()))?;
+/// A plain file's text. Line endings `\r\n` are read as `\n` (line numbers stay the same).
+pub fn read_text(path: &Path, limit: u64) -> Result<String, NotRead> {
+    let bytes = read_plain(path, limit)?;
+    let text = String::from_utf8(bytes).map_err(|e| NotRead::NotUtf8(e.utf8_error().valid_up_to()))?;
     Ok(if text.contains("\r\n") { text.replace("\r\n", "\n") } else { text })
 }
 
@@ -208,7 +209,7 @@ mod tests {
         let texts = ["latin1.rs", "crlf.rs"].map(|n| read_text(&dir.join(n), MAX_FILE_BYTES));
         std::fs::remove_dir_all(&dir).unwrap();
         assert_eq!(big, (Err(NotRead::TooLarge(1999)), Ok(2000)));
-        assert_eq!(texts, [Err("not UTF-8 at byte 16".to_string()), Ok("fn a() {\n}\n".to_string())]);
+        assert_eq!(texts, [Err(NotRead::NotUtf8(16)), Ok("fn a() {\n}\n".to_string())]);
     }
 
     #[test]

@@ -15,8 +15,10 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::features::Masks;
+use crate::file_error::{parse_toml, read_toml, FileError, Problem, Staleness};
 use crate::images::read_png;
 use crate::noisy::{NoisyReference, TileFile};
+use crate::plain::NotRead;
 use crate::rubric::{GradedScene, Rubric, TileTest};
 use raylab_base::scene_desc::SceneDesc;
 
@@ -91,12 +93,13 @@ pub fn fnv1a_hex(bytes: &[u8]) -> String {
 const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
 /// The hash of a scene file and every mesh file it names, in order.
-pub fn inputs_hash(scene_file: &Path) -> Result<String, String> {
-    let read = |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
+pub fn inputs_hash(scene_file: &Path) -> Result<String, FileError> {
+    let read = |p: &Path| {
+        std::fs::read(p).map_err(|e| FileError::new(p, Problem::Unreadable(NotRead::Io(e.to_string()))))
+    };
     let text = read(scene_file)?;
     let mut hash = fnv1a(&text, FNV_OFFSET);
-    let desc: SceneDesc = toml::from_str(&String::from_utf8_lossy(&text))
-        .map_err(|e| format!("{}: {}", scene_file.display(), e.message()))?;
+    let desc: SceneDesc = parse_toml(scene_file, &String::from_utf8_lossy(&text))?;
     for file in desc.objects.iter().filter_map(|o| o.file.as_ref()) {
         let mesh = scene_file.parent().unwrap_or(Path::new("")).join(file.get_ref());
         hash = fnv1a(&read(&mesh)?, hash);
@@ -104,51 +107,62 @@ pub fn inputs_hash(scene_file: &Path) -> Result<String, String> {
     Ok(format!("{hash:016x}"))
 }
 
+/// The references' manifest of `root`, with the reference of each of `scenes` checked: in the
+/// manifest, fresh, readable and of its scene's size. Checked before anything is built, so a
+/// broken reference stops a grade (or a class) at once, naming the file.
+pub fn checked_manifest<'a>(
+    root: &Path,
+    rubric: &Rubric,
+    scenes: impl IntoIterator<Item = &'a GradedScene>,
+) -> Result<Manifest, FileError> {
+    let manifest = Manifest::load(root, rubric)?;
+    for scene in scenes {
+        manifest.fresh_entry(root, scene)?;
+        load_reference(root, scene)?;
+    }
+    Ok(manifest)
+}
+
 impl Manifest {
     /// Reads `reference/manifest.toml`, and `hidden/reference/manifest.toml` if the rubric has
     /// hidden scenes.
-    pub fn load(root: &Path, rubric: &Rubric) -> Result<Manifest, String> {
+    pub fn load(root: &Path, rubric: &Rubric) -> Result<Manifest, FileError> {
         let mut manifest = Manifest::default();
         let has_hidden = rubric.scenes.iter().any(|s| s.hidden);
         for dir in &REFERENCE_DIRS[..1 + has_hidden as usize] {
             let path = root.join(dir).join("manifest.toml");
-            let text = std::fs::read_to_string(&path).map_err(|e| {
-                format!("{}: cannot read ({e}); run `grader update-references`", path.display())
-            })?;
-            let part: Manifest =
-                toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))?;
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| FileError::new(&path, Problem::NoReferences(NotRead::Io(e.to_string()))))?;
+            let part: Manifest = parse_toml(&path, &text)?;
             manifest.references.extend(part.references);
         }
         Ok(manifest)
     }
 
     /// The entry of a scene, checked against the scene's files and the rubric's spp and seed.
-    pub fn fresh_entry(&self, root: &Path, scene: &GradedScene) -> Result<&ReferenceEntry, String> {
-        let stale = |why: &str| {
+    pub fn fresh_entry(&self, root: &Path, scene: &GradedScene) -> Result<&ReferenceEntry, FileError> {
+        let stale = |why: Staleness| {
             let image = Path::new(reference_dir(scene.hidden)).join(format!("{}.png", scene.name));
-            format!("{} is stale: {why}; run `grader update-references`", image.display())
+            FileError::new(&image, Problem::Stale(why))
         };
         let entry = self
             .references
             .iter()
             .find(|r| r.name == scene.name)
-            .ok_or_else(|| stale("not in the manifest"))?;
+            .ok_or_else(|| stale(Staleness::NotInManifest))?;
         if entry.inputs_hash != inputs_hash(&root.join(&scene.file))? {
-            return Err(stale(&format!("{} or its meshes changed since it was made", scene.file.display())));
+            return Err(stale(Staleness::InputsChanged(scene.file.clone())));
         }
         if entry.spp != scene.reference_spp || entry.seed != scene.seed {
-            return Err(stale("the rubric's reference_spp or seed changed"));
+            return Err(stale(Staleness::SamplesOrSeed));
         }
         Ok(entry)
     }
 }
 
 /// The film size a scene renders at, from its file.
-fn film_size(root: &Path, scene: &GradedScene) -> Result<(u32, u32), String> {
-    let path = root.join(&scene.file);
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let desc: SceneDesc =
-        toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))?;
+fn film_size(root: &Path, scene: &GradedScene) -> Result<(u32, u32), FileError> {
+    let desc: SceneDesc = read_toml(&root.join(&scene.file))?;
     Ok((desc.camera.width, desc.camera.height))
 }
 
@@ -157,7 +171,7 @@ pub fn load_tile_reference(
     root: &Path,
     scene: &GradedScene,
     test: &TileTest,
-) -> Result<NoisyReference, String> {
+) -> Result<NoisyReference, FileError> {
     let path = tiles_path(root, scene);
     let file = TileFile::read(&path)?;
     let counts = (file.expected.len() as u32, file.solution.len() as u32);
@@ -167,31 +181,21 @@ pub fn load_tile_reference(
         || counts != (test.reference_renders, test.solution_renders)
         || file.expected.iter().chain(&file.solution).any(|r| r.len() != tiles)
     {
-        return Err(format!(
-            "{} is stale: the rubric's tile, spp or render counts, or the film size, changed; run `grader update-references`",
-            path.display()
-        ));
+        return Err(FileError::new(&path, Problem::Stale(Staleness::TileTest)));
     }
     Ok(file.reference())
 }
 
 /// The reference image and masks of a scene, checked to be of the scene's film size.
-pub fn load_reference(root: &Path, scene: &GradedScene) -> Result<(image::RgbImage, Masks), String> {
-    let image = read_png(&image_path(root, scene)).map_err(|e| e.to_string())?;
-    let masks = read_png(&masks_path(root, scene)).map_err(|e| e.to_string())?;
+pub fn load_reference(root: &Path, scene: &GradedScene) -> Result<(image::RgbImage, Masks), FileError> {
+    let read =
+        |path: &Path| read_png(path).map_err(|e| FileError::new(path, Problem::NotAnImage(e.to_string())));
+    let (image_path, masks_path) = (image_path(root, scene), masks_path(root, scene));
+    let (image, masks) = (read(&image_path)?, read(&masks_path)?);
     let film = film_size(root, scene)?;
-    for (path, size) in
-        [(image_path(root, scene), image.dimensions()), (masks_path(root, scene), masks.dimensions())]
-    {
+    for (path, size) in [(image_path, image.dimensions()), (masks_path, masks.dimensions())] {
         if size != film {
-            return Err(format!(
-                "{}: the image is {}x{} but the scene renders {}x{}; run `grader update-references`",
-                path.display(),
-                size.0,
-                size.1,
-                film.0,
-                film.1
-            ));
+            return Err(FileError::new(&path, Problem::WrongSize { image: size, film }));
         }
     }
     Ok((image, Masks::from_image(masks)))

@@ -140,6 +140,72 @@ fn grader_reports_a_missing_reference_and_a_wrong_size_in_one_line() {
     );
 }
 
+/// Bad input is the instructor's or the student's to fix, never the grader's crash: every
+/// subcommand that reads a rubric refuses a broken one in one line naming the file, its line and
+/// the field's problem, with exit code 2, before it builds or renders anything.
+#[test]
+fn grader_refuses_a_broken_rubric_in_one_line_from_every_subcommand() {
+    let dir = scratch("broken-rubric");
+    copy_grading_inputs(&dir);
+    let rubric = dir.join("checkpoints/rubric.toml");
+    let text = std::fs::read_to_string(&rubric).unwrap();
+    let line = text.lines().position(|l| l.starts_with("test_points = ")).unwrap() + 1;
+    let broken: Vec<String> = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| if i + 1 == line { "test_points = \"five\"".to_string() } else { l.to_string() })
+        .collect();
+    std::fs::write(&rubric, broken.join("\n")).unwrap();
+    let (root, out) = (dir.to_str().unwrap(), dir.join("out"));
+    let out = out.to_str().unwrap();
+    let mut commands = vec![
+        vec!["--skip-tests", "--root", root],
+        vec!["watch", "--root", root],
+        vec!["submission", root, "--root", root, "--no-sandbox", "--work", out],
+        vec!["batch", root, "--root", root, "--out", out, "--no-sandbox"],
+    ];
+    if cfg!(feature = "instructor") {
+        commands.extend([
+            vec!["update-references", "--root", root],
+            vec!["calibrate", "--check", "--root", root],
+            vec!["fingerprints", "--root", root, "--table", out],
+            vec!["package", "gradescope", "--root", root, "--out", out],
+        ]);
+    }
+    let expected = format!("grader: {}:{line}: invalid type: string \"five\"", rubric.display());
+    for args in commands {
+        let output = grader(&args);
+        let last = stderr(&output).lines().last().unwrap_or_default().to_string();
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {}", stderr(&output));
+        assert!(last.starts_with(&expected), "{args:?}: {last}");
+        assert!(!stderr(&output).contains("panicked"), "{args:?}: {}", stderr(&output));
+    }
+    assert!(!Path::new(out).exists(), "nothing was built or written");
+}
+
+/// The commands that read no rubric refuse their own bad input the same way: a missing image, an
+/// unknown variant.
+#[test]
+fn grader_refuses_a_missing_image_and_an_unknown_variant_in_one_line() {
+    let missing = root().join("reference/no_such_scene.png");
+    let output = grader(&["compare", missing.to_str().unwrap(), missing.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    assert_eq!(stderr(&output).lines().count(), 1, "{}", stderr(&output));
+    assert!(stderr(&output).contains("no_such_scene.png"), "{}", stderr(&output));
+    if cfg!(feature = "instructor") {
+        let out = scratch("variant");
+        let args = ["make-variant", "no_such_mistake", "--out", out.to_str().unwrap(), "--root", "."];
+        let output =
+            Command::new(env!("CARGO_BIN_EXE_grader")).args(args).current_dir(root()).output().unwrap();
+        assert_eq!(output.status.code(), Some(2));
+        assert!(
+            stderr(&output).starts_with("grader: checkpoints/variants.toml: no variant `no_such_mistake`"),
+            "{}",
+            stderr(&output)
+        );
+    }
+}
+
 #[test]
 fn grader_compare_prints_ssim_and_rejects_sizes_that_differ() {
     let reference = root().join("reference/cornell_direct.png");

@@ -22,7 +22,7 @@ use crate::images::{film_to_image, read_png};
 use crate::metrics::{Comparison, Measured};
 use crate::noisy::{compare, graded_seed, tile_means, NoisyReference};
 use crate::outcome::{Blame, GradeReport, Needed, Phases, SceneResult, SceneStatus};
-use crate::reference::{load_reference, load_tile_reference, Manifest};
+use crate::reference::{checked_manifest, load_reference, load_tile_reference};
 use crate::regions::stub::stubbed_checkpoints;
 use crate::rubric::{Check, Checkpoint, GradedScene, Rubric, TileTest};
 use crate::run::cargo::{build_renderer, BUILD_TIME_LIMIT};
@@ -90,6 +90,14 @@ impl GradeOptions {
     }
 }
 
+/// The rubric of the instructor's tree at `root`, with every scene's reference checked
+/// ([`checked_manifest`]): what a grade of someone else's code checks before it builds anything.
+pub fn checked_rubric(root: &Path) -> Result<Rubric, String> {
+    let rubric = Rubric::of_tree(root)?;
+    checked_manifest(root, &rubric, &rubric.scenes)?;
+    Ok(rubric)
+}
+
 /// Grades the tree at `options.root`; `Err` only for bad input (a broken rubric, a missing or
 /// stale reference), never for anything the graded code does.
 pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeReport, String> {
@@ -109,11 +117,7 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     if options.scenes.is_some() && options.checkpoints.is_none() {
         checkpoints.retain(|c| scenes.iter().any(|s| s.grades.contains(&c.id)));
     }
-    let manifest = Manifest::load(root, &rubric)?;
-    for scene in &scenes {
-        manifest.fresh_entry(root, scene)?;
-        load_reference(root, scene)?;
-    }
+    let manifest = checked_manifest(root, &rubric, &scenes)?;
     let code = options.code.as_deref().unwrap_or(root);
     let stubbed = not_started(options, code, &rubric, &checkpoints)?;
     // The selected checkpoints' tests, and those of every checkpoint a selected scene runs that

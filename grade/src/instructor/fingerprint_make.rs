@@ -25,6 +25,7 @@ use image::RgbImage;
 use indicatif::ProgressBar;
 
 use crate::fingerprint::{thumbnail, Entry, FingerprintFile, Fingerprints, Likeness, Rule, DIR};
+use crate::grading::checked_rubric;
 use crate::images::write_png;
 use crate::instructor::calibrate::grade_report;
 use crate::instructor::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
@@ -69,9 +70,9 @@ type Plan<'a> = Vec<(&'a Variant, Vec<(String, Option<u64>)>)>;
 
 /// Renders the catalogue, writes `reference/fingerprints/` and measures the naming (module docs).
 pub fn make(root: &Path, progress: &ProgressBar) -> Result<Made, String> {
+    let rubric = checked_rubric(root)?;
     let catalogue = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
     check_patches(root, &catalogue)?;
-    let rubric = Rubric::of_tree(root)?;
     let public = |name: &String| rubric.scenes.iter().any(|s| &s.name == name && !s.hidden);
     let named_by: BTreeMap<&str, &Variant> = catalogue
         .iter()

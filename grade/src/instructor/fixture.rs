@@ -12,10 +12,10 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use crate::file_error::read_toml;
 use crate::regions::lexer::line_at;
 use crate::regions::markers::find_regions;
 use crate::regions::stub::{region_bodies, region_function, rust_files};
-use crate::rubric::read_toml;
 use crate::submission::scratch::{copy_tree, NOT_COPIED};
 use crate::submission::splice::HIDDEN_DIRS;
 

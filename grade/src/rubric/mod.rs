@@ -18,6 +18,8 @@ use serde::Deserialize;
 
 mod rules;
 
+use crate::file_error::{read_toml, FileError};
+
 pub use rules::RuleBroken;
 
 /// The whole rubric.
@@ -305,60 +307,74 @@ impl Metric {
     }
 }
 
-/// Reads and parses a TOML file; errors name the file.
-pub(crate) fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))
+/// Why a rubric file cannot be used: it cannot be read or parsed, or it breaks a rule.
+#[derive(Debug, thiserror::Error)]
+pub enum RubricError {
+    /// The file cannot be read or parsed.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// The file parses but breaks a rule.
+    #[error("{}: {rule}", file.display())]
+    Broken {
+        /// The rubric file.
+        file: PathBuf,
+        /// The rule broken.
+        rule: RuleBroken,
+    },
+}
+
+/// While the layers above still carry their errors as text (issue 25), a rubric's error goes up
+/// as its message.
+impl From<RubricError> for String {
+    fn from(error: RubricError) -> String {
+        error.to_string()
+    }
 }
 
 impl Rubric {
     /// The rubric of the tree at `root`: `checkpoints/rubric.toml`, with the hidden checks of
     /// `hidden/rubric.toml` merged in if the tree has them (the instructor's does, a starter not).
-    pub fn of_tree(root: &Path) -> Result<Rubric, String> {
+    pub fn of_tree(root: &Path) -> Result<Rubric, RubricError> {
         let mut rubric = Rubric::load(&root.join(RUBRIC), root)?;
-        let path = root.join(HIDDEN_RUBRIC);
-        if path.exists() {
-            let hidden: HiddenRubric = read_toml(&path)?;
-            rubric.merge_hidden(hidden, root).map_err(|e| format!("{}: {e}", path.display()))?;
+        let file = root.join(HIDDEN_RUBRIC);
+        if file.exists() {
+            let hidden: HiddenRubric = read_toml(&file)?;
+            rubric.merge_hidden(hidden, root).map_err(|rule| RubricError::Broken { file, rule })?;
         }
         Ok(rubric)
     }
 
-    /// Loads and checks `path`; every problem is reported as `path: what`.
-    pub fn load(path: &Path, root: &Path) -> Result<Rubric, String> {
+    /// Loads and checks `path`.
+    pub fn load(path: &Path, root: &Path) -> Result<Rubric, RubricError> {
         let rubric: Rubric = read_toml(path)?;
-        rubric.validate(root).map_err(|e| format!("{}: {e}", path.display()))?;
+        rubric.validate(root).map_err(|rule| RubricError::Broken { file: path.to_path_buf(), rule })?;
         Ok(rubric)
     }
 
-    fn merge_hidden(&mut self, hidden: HiddenRubric, root: &Path) -> Result<(), String> {
+    fn merge_hidden(&mut self, hidden: HiddenRubric, root: &Path) -> Result<(), RuleBroken> {
         for h in hidden.checkpoints {
             let id = h.id;
             let checkpoint = self
                 .checkpoints
                 .iter_mut()
                 .find(|c| c.id == id)
-                .ok_or_else(|| format!("checkpoint {id} is not in {RUBRIC}"))?;
+                .ok_or(RuleBroken::HiddenUnknownCheckpoint(id))?;
             let filter = h.test_filter.as_deref().unwrap_or_default();
             if h.test_points < 0.0 || h.image_points < 0.0 || (h.test_points > 0.0) == filter.is_empty() {
-                return Err(format!(
-                    "checkpoint {id}: points must not be negative, and a test_filter given exactly for test points"
-                ));
+                return Err(RuleBroken::HiddenTestPoints(id));
             }
             if filter.contains("checkpoint") {
-                return Err(format!(
-                    "checkpoint {id}: test_filter {filter:?} would also match public tests; name hidden tests `hidden{id}_...`"
-                ));
+                return Err(RuleBroken::HiddenFilterTooWide { checkpoint: id, filter: filter.to_string() });
             }
             if checkpoint.hidden.replace(h).is_some() {
-                return Err(format!("checkpoint {id} appears twice"));
+                return Err(RuleBroken::HiddenTwice(id));
             }
         }
         for mut scene in hidden.scenes {
             scene.hidden = true;
             self.scenes.push(scene);
         }
-        self.validate(root).map_err(|e| e.to_string())
+        self.validate(root)
     }
 
     /// The checks `rustlings dev check` would make: ids in order, files exist, every scene
@@ -391,6 +407,28 @@ mod tests {
             assert!(error.contains("a Ssim check needs exactly one of min or max"), "{error}");
         }
         assert!(check("min = 0.5\nmean = 1").is_err(), "unknown fields are still refused");
+    }
+
+    /// Each rule of the hidden rubric broken alone gives its own error.
+    #[test]
+    fn each_hidden_rule_broken_alone_gives_its_own_error() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let merged = |checkpoints: &str| {
+            let hidden: HiddenRubric = toml::from_str(checkpoints).unwrap();
+            Rubric::load(&root.join(RUBRIC), &root).unwrap().merge_hidden(hidden, &root)
+        };
+        let entry = |id: u32, points: f64, filter: &str| {
+            format!("[[checkpoint]]\nid = {id}\ntest_points = {points}\ntest_filter = \"{filter}\"\n")
+        };
+        assert_eq!(merged(&entry(2, 1.0, "hidden2")), Ok(()));
+        assert_eq!(merged(&entry(99, 1.0, "hidden99")), Err(RuleBroken::HiddenUnknownCheckpoint(99)));
+        assert_eq!(merged(&entry(2, -1.0, "hidden2")), Err(RuleBroken::HiddenTestPoints(2)));
+        assert_eq!(merged(&entry(2, 1.0, "")), Err(RuleBroken::HiddenTestPoints(2)));
+        assert_eq!(
+            merged(&entry(2, 1.0, "checkpoint2")),
+            Err(RuleBroken::HiddenFilterTooWide { checkpoint: 2, filter: "checkpoint2".to_string() })
+        );
+        assert_eq!(merged(&entry(2, 1.0, "hidden2").repeat(2)), Err(RuleBroken::HiddenTwice(2)));
     }
 
     /// Every test a checkpoint runs first is a test of that checkpoint: a misspelt name would

@@ -89,6 +89,24 @@ pub enum RuleBroken {
     /// A tile test is written as `[scene.tile_test]`, never as a check.
     #[error("scene {0}: a tile test is a [scene.tile_test], not a check")]
     TileTestAsCheck(String),
+    /// The hidden rubric adds checks to checkpoints of the public one only.
+    #[error("checkpoint {0} is not in {RUBRIC}", RUBRIC = super::RUBRIC)]
+    HiddenUnknownCheckpoint(u32),
+    /// A checkpoint has one entry in the hidden rubric at most.
+    #[error("checkpoint {0} appears twice")]
+    HiddenTwice(u32),
+    /// Hidden points are never negative, and a hidden test filter is given exactly when there
+    /// are hidden test points.
+    #[error("checkpoint {0}: points must not be negative, and a test_filter given exactly for test points")]
+    HiddenTestPoints(u32),
+    /// A hidden test filter matches hidden tests only (`hidden3_...`), never public ones.
+    #[error("checkpoint {checkpoint}: test_filter {filter:?} would also match public tests; name hidden tests `hidden{checkpoint}_...`")]
+    HiddenFilterTooWide {
+        /// The checkpoint.
+        checkpoint: u32,
+        /// Its hidden test filter.
+        filter: String,
+    },
     /// A checkpoint has image points exactly when some scene grades it (public and hidden apart).
     #[error("checkpoint {checkpoint}: {}image points and {}scenes grading it go together", hidden_word(*.hidden), hidden_word(*.hidden))]
     PointsWithoutScenes {

@@ -24,6 +24,7 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 use raylab_base::image_io::write_file_atomic;
 
+use crate::grading::checked_rubric;
 use crate::plain::{is_plain_dir, kind, FileKind};
 use crate::report::html::escape;
 use crate::submission::unpack::unpack_zip;
@@ -156,6 +157,9 @@ pub fn grade_all(
     out: &Path,
     progress: &ProgressBar,
 ) -> Result<Vec<Row>, String> {
+    // The instructor's inputs first: a broken rubric or reference stops the class at once, not
+    // as every student's "not graded".
+    checked_rubric(instructor)?;
     let work = out.join(".work");
     let unpacked = work.join("unpacked");
     let submissions = submissions(dirs, &unpacked)?;

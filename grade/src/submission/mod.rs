@@ -18,12 +18,11 @@ use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
 
-use crate::grading::{grade, GradeOptions};
+use crate::grading::{checked_rubric, grade, GradeOptions};
 use crate::outcome::{Blame, CheckpointResult, GradeReport, Phases};
 use crate::plain::is_plain_dir;
 use crate::regions::baseline::{starter_manifest, Baseline, StarterManifest};
 use crate::report::gradescope_json;
-use crate::rubric::Rubric;
 use crate::run::build_error::BuildError;
 use crate::run::cargo::BUILD_TIME_LIMIT;
 use crate::run::unit_tests::build_tests;
@@ -64,6 +63,7 @@ pub fn grade_submission(
     if let Some(manifest) = starter_manifest(instructor)? {
         return grade_own_tree(instructor, dir, &manifest, progress);
     }
+    let rubric = checked_rubric(instructor)?;
     let start = std::time::Instant::now();
     let mut submission = read_submission(&Baseline::Tree(instructor), dir)?;
     let tree = work.join("tree");
@@ -83,7 +83,6 @@ pub fn grade_submission(
         }
         write_spliced_tree(instructor, &submission, &tree)?;
     }
-    let rubric = Rubric::of_tree(instructor)?;
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
     let base = GradeOptions {
         code: Some(tree),

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 
 use std::collections::BTreeMap;
 
-use crate::plain::{kind, read_text, FileKind, MAX_FILE_BYTES};
+use crate::plain::{kind, read_text, FileKind, NotRead, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
 use crate::regions::allow::check_region;
 use crate::regions::baseline::{ignored_files, Baseline};
@@ -195,8 +195,8 @@ fn submission_file(submission: &Path, file: &Path) -> Result<(String, Vec<Found>
             _ => return Err(format!("{shown} is missing")),
         }
     }
-    let text = read_text(&submission.join(file), MAX_FILE_BYTES).map_err(|why| match why.as_str() {
-        "missing" => format!("{shown} is missing"),
+    let text = read_text(&submission.join(file), MAX_FILE_BYTES).map_err(|why| match why {
+        NotRead::Missing => format!("{shown} is missing"),
         _ => format!("{shown}: {why}"),
     })?;
     let found = find_regions(&text)

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use clap::Subcommand;
 use raylab_base::image_io::write_file_atomic;
+use raylab_grade::grading::checked_rubric;
 use raylab_grade::instructor::calibrate::Sweep;
 use raylab_grade::instructor::render_references::update_references;
 use raylab_grade::instructor::variants::{make_scratch_tree, VariantFile};
@@ -95,6 +96,7 @@ pub fn run(command: Command) -> Result<ExitCode, String> {
 }
 
 fn package(root: &Path, out: &Path) -> Result<ExitCode, String> {
+    checked_rubric(root)?; // a broken rubric or reference is found here, not on Gradescope
     eprintln!("grader: packaging {} for Gradescope (cargo vendor may take a minute)", root.display());
     raylab_grade::instructor::package::gradescope(root, &root.join("target/package/gradescope"), out)?;
     let size = std::fs::metadata(out).map_err(|e| format!("{}: {e}", out.display()))?.len();
@@ -120,7 +122,7 @@ fn calibrate(
     check: bool,
     sweep: Option<Sweep>,
 ) -> Result<ExitCode, String> {
-    let rubric = Rubric::of_tree(root)?;
+    let rubric = checked_rubric(root)?;
     let progress = progress_bar(0);
     let runs = raylab_grade::instructor::calibrate::run_all(root, sweep, &progress);
     progress.finish_and_clear();
@@ -180,7 +182,7 @@ fn make_variant(root: &Path, name: &str, out: &Path) -> Result<ExitCode, String>
     let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
     let variant = variants.iter().find(|v| v.name == name).ok_or_else(|| {
         let names: Vec<&str> = variants.iter().map(|v| v.name.as_str()).collect();
-        format!("{name}: no such variant (known: {})", names.join(", "))
+        format!("checkpoints/variants.toml: no variant `{name}` (known: {})", names.join(", "))
     })?;
     make_scratch_tree(root, out, variant)?;
     println!("{}: {} ({})", out.display(), variant.name, variant.description);
