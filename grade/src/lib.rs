@@ -25,4 +25,5 @@ pub mod rubric;
 pub mod run;
 pub mod ssim;
 pub mod submission;
+pub mod verdict;
 pub mod watch;

@@ -11,6 +11,7 @@ use crate::noisy::NoisyVerdict;
 use crate::rubric::{Check, Checkpoint, GradedScene};
 use crate::run::unit_tests::TestRun;
 use crate::ssim::SsimMap;
+use crate::verdict::{Advice, Kept, Reason};
 
 /// Who can have made a failed scene fail ([`crate::grading::points`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,7 +60,7 @@ pub enum SceneStatus {
     Failed,
     /// It failed, but costs the graded checkpoints nothing: why (a later checkpoint is not
     /// written yet, or is wrong).
-    NotCounted(String),
+    NotCounted(Kept),
 }
 
 impl SceneStatus {
@@ -97,10 +98,10 @@ pub struct CheckpointResult {
     /// Points from the scenes, hidden ones included.
     pub image_score: f64,
     /// Why points were lost, one line each.
-    pub reasons: Vec<String>,
+    pub reasons: Vec<Reason>,
     /// What to read or fix, when this checkpoint itself is to blame: its hint and handout, or
     /// "not started". `None` when it lost nothing or only lost points to another checkpoint.
-    pub advice: Option<String>,
+    pub advice: Option<Advice>,
 }
 
 impl CheckpointResult {

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
 use crate::outcome::CheckpointResult;
-use crate::report::hint_text;
+use crate::report::reasons::{advice_line, hint_text, reason_lines};
 
 /// Something that waits for the next save.
 pub trait Changes {
@@ -167,7 +167,7 @@ fn answer(out: &mut impl Write, result: &CheckpointResult) -> std::io::Result<()
     let id = result.checkpoint.id;
     writeln!(out, "checkpoint {id}: {:.1}/{:.0}", result.score(), result.max_score(true))?;
     writeln!(out, "  {}", first_problem(result))?;
-    let advice = result.advice.clone().unwrap_or_else(|| hint_text(&result.checkpoint));
+    let advice = advice_line(result).unwrap_or_else(|| hint_text(&result.checkpoint));
     writeln!(out, "  {advice}")
 }
 
@@ -193,7 +193,7 @@ fn first_problem(result: &CheckpointResult) -> String {
         let name = test.rsplit("::").next().unwrap_or(test);
         return format!("first failing test: {name}: {message}");
     }
-    result.reasons.first().cloned().unwrap_or_else(|| "points were lost".to_string())
+    reason_lines(result).into_iter().next().unwrap_or_else(|| "points were lost".to_string())
 }
 
 #[cfg(test)]

@@ -30,12 +30,9 @@ use std::collections::BTreeMap;
 use crate::noisy::tile_origin;
 use crate::outcome::{Blame, CheckpointResult, SceneResult, SceneStatus};
 use crate::regions::stub::stub_panic;
-use crate::report::{checkpoints_text, hint_text, named_text};
 use crate::rubric::{Checkpoint, GradedScene, Metric};
 use crate::run::unit_tests::TestRun;
-
-/// A reason names this many failing tests; `cargo test checkpointN` shows them all.
-const SHOWN_FAILURES: usize = 3;
+use crate::verdict::{Advice, FailedCheck, Kept, Loss, Part, Reason, Why};
 
 /// Each tested checkpoint's unit-test runs, by id: its public tests, and its hidden ones if it
 /// has any.
@@ -107,49 +104,35 @@ impl Context<'_> {
 /// What a failed scene means for one checkpoint it grades.
 enum Judged {
     /// The checkpoint keeps the scene's points; why the scene failed all the same.
-    Kept(String),
+    Kept(Kept),
     /// The checkpoint loses them: why, and whether its own code is to blame (its hint is shown).
-    Lost { reason: String, blamed: bool },
+    Lost { loss: Loss, blamed: bool },
 }
 
-/// Judges a failed scene for checkpoint `id` (module docs); `label` begins the reason.
-fn judge(s: &SceneResult, id: u32, label: &str, context: &Context) -> Judged {
-    let name = &s.scene.name;
+/// Judges a failed scene for checkpoint `id` (module docs).
+fn judge(s: &SceneResult, id: u32, context: &Context) -> Judged {
     let why = match (&s.error, s.scene.hidden) {
-        (Some(e), _) => e.clone(),
-        (None, true) => "the image differs from the reference".to_string(),
-        (None, false) => failed_checks(s),
+        (Some(e), _) => Why::Error(e.clone()),
+        (None, true) => Why::Differs,
+        (None, false) => Why::Checks(failed_checks(s)),
     };
-    let lost =
-        |reason: String, blamed| Judged::Lost { reason: format!("{label}scene {name}: {reason}"), blamed };
+    let lost = |loss, blamed| Judged::Lost { loss, blamed };
     let not_started = |k| context.not_started(k);
     match (context.blame, context.culprit(&s.scene)) {
-        (Blame::Isolated, Some(k)) if k != id => lost(
-            format!("{why} (checkpoint {k}'s tests fail with your checkpoint {id}: only checkpoint {id} is your code in this grade)"),
-            true,
-        ),
-        (Blame::Isolated, _) => lost(why, true),
+        (Blame::Isolated, Some(k)) if k != id => {
+            lost(Loss::OthersFailWithYours { why, other: k, own: id }, true)
+        }
+        (Blame::Isolated, _) => lost(Loss::Yours(why), true),
         (_, Some(k)) if k > id && not_started(k) => {
-            let waiting: Vec<u32> = s.scene.depends_on.iter().copied().filter(|&d| d > id && not_started(d)).collect();
-            Judged::Kept(format!(
-                "not counted against checkpoint {id}: waiting for {}, not written yet (the scene runs {})",
-                checkpoints_text(&waiting),
-                if waiting.len() > 1 { "their code" } else { "its code" }
-            ))
+            let waiting = s.scene.depends_on.iter().copied().filter(|&d| d > id && not_started(d)).collect();
+            Judged::Kept(Kept::Waiting { own: id, waiting })
         }
-        (_, Some(k)) if k > id => Judged::Kept(format!(
-            "not counted against checkpoint {id}: checkpoint {k}'s tests fail, fix it first ({why})"
-        )),
-        (_, Some(k)) if k < id && not_started(k) => {
-            lost(format!("lost until checkpoint {k} is written: the scene runs its code"), false)
-        }
-        (_, Some(k)) if k < id => lost(
-            format!("lost because checkpoint {k} is wrong (its unit tests fail); fix checkpoint {k} first ({why})"),
-            false,
-        ),
-        (_, Some(_)) if not_started(id) => lost(format!("checkpoint {id} is not written yet"), true),
-        (_, Some(_)) => lost(format!("your checkpoint {id} tests fail; {why}"), true),
-        (_, None) => lost(why, true),
+        (_, Some(k)) if k > id => Judged::Kept(Kept::LaterWrong { own: id, later: k, why }),
+        (_, Some(k)) if k < id && not_started(k) => lost(Loss::UntilWritten(k), false),
+        (_, Some(k)) if k < id => lost(Loss::EarlierWrong { earlier: k, why }, false),
+        (_, Some(_)) if not_started(id) => lost(Loss::NotWritten(id), true),
+        (_, Some(_)) => lost(Loss::YourTestsFail { own: id, why }, true),
+        (_, None) => lost(Loss::Yours(why), true),
     }
 }
 
@@ -169,7 +152,7 @@ pub fn scene_status(s: &SceneResult, graded: &[u32], context: &Context) -> Scene
     }
     let mut kept = None;
     for &id in s.scene.grades.iter().filter(|id| graded.contains(id)) {
-        match judge(s, id, "", context) {
+        match judge(s, id, context) {
             Judged::Lost { .. } => return SceneStatus::Failed,
             Judged::Kept(note) => kept = kept.or(Some(note)),
         }
@@ -178,9 +161,8 @@ pub fn scene_status(s: &SceneResult, graded: &[u32], context: &Context) -> Scene
 }
 
 /// One part of a checkpoint's points: its public checks, or its hidden ones.
-struct Part<'a> {
-    /// `""` or `"hidden "`: how its reasons begin.
-    label: &'static str,
+struct Checks<'a> {
+    part: Part,
     test_points: f64,
     image_points: f64,
     filter: &'a str,
@@ -193,7 +175,7 @@ struct Part<'a> {
 struct PartScore {
     test_score: f64,
     image_score: f64,
-    reasons: Vec<String>,
+    reasons: Vec<Reason>,
     blamed: bool,
 }
 
@@ -210,16 +192,16 @@ pub fn score_checkpoint(
     };
     let runs =
         |hidden: bool| context.tests.and_then(|t| if hidden { t.hidden.get(&id) } else { t.public.get(&id) });
-    let public = Part {
-        label: "",
+    let public = Checks {
+        part: Part::Public,
         test_points: checkpoint.test_points,
         image_points: checkpoint.image_points,
         filter: &checkpoint.test_filter,
         tests: runs(false),
         scenes: graded(false),
     };
-    let hidden = checkpoint.hidden.as_ref().map(|h| Part {
-        label: "hidden ",
+    let hidden = checkpoint.hidden.as_ref().map(|h| Checks {
+        part: Part::Hidden,
         test_points: h.test_points,
         image_points: h.image_points,
         filter: h.test_filter.as_deref().unwrap_or_default(),
@@ -228,7 +210,7 @@ pub fn score_checkpoint(
     });
     let mut total = PartScore::default();
     if context.not_started(id) {
-        total.reasons.push("not started: its code is still the starter's todo!()".to_string());
+        total.reasons.push(Reason::NotStarted);
     }
     for part in std::iter::once(&public).chain(hidden.as_ref()) {
         let score = score_part(id, part, context);
@@ -238,9 +220,9 @@ pub fn score_checkpoint(
         total.blamed |= score.blamed;
     }
     let advice = if context.not_started(id) {
-        Some(format!("Not started yet: read {} first.", checkpoint.handout.display()))
+        Some(Advice::NotStarted { handout: checkpoint.handout.clone() })
     } else {
-        total.blamed.then(|| hint_text(checkpoint))
+        total.blamed.then_some(Advice::Hint)
     };
     CheckpointResult {
         checkpoint: checkpoint.clone(),
@@ -254,7 +236,7 @@ pub fn score_checkpoint(
     }
 }
 
-fn score_part(id: u32, part: &Part, context: &Context) -> PartScore {
+fn score_part(id: u32, part: &Checks, context: &Context) -> PartScore {
     let mut score = PartScore::default();
     if let Some(t) = part.tests {
         let (reasons, fraction) = test_reasons(id, part, t, context);
@@ -269,13 +251,14 @@ fn score_part(id: u32, part: &Part, context: &Context) -> PartScore {
             kept += 1;
             continue;
         }
-        match judge(s, id, part.label, context) {
+        match judge(s, id, context) {
             Judged::Kept(_) => kept += 1,
-            Judged::Lost { reason, blamed } => {
+            Judged::Lost { loss, blamed } => {
                 // A checkpoint not started says so once, not once a scene.
                 if !context.not_started(id) {
-                    score.reasons.push(reason);
-                    score.reasons.extend(s.named.as_ref().map(|n| named_text(&s.scene.name, n)));
+                    let scene = s.scene.name.clone();
+                    score.reasons.push(Reason::SceneLost { part: part.part, scene: scene.clone(), loss });
+                    score.reasons.extend(s.named.clone().map(|naming| Reason::LooksLike { scene, naming }));
                 }
                 score.blamed |= blamed;
             }
@@ -289,70 +272,60 @@ fn score_part(id: u32, part: &Part, context: &Context) -> PartScore {
 
 /// Why a part's tests lost points, and the fraction of them that counts as passed (the tests
 /// waiting for another checkpoint left out).
-fn test_reasons(id: u32, part: &Part, t: &TestRun, context: &Context) -> (Vec<String>, f64) {
-    let label = part.label;
+fn test_reasons(id: u32, checks: &Checks, t: &TestRun, context: &Context) -> (Vec<Reason>, f64) {
+    let part = checks.part;
     let waiting = context.waiting(t, id);
     let mut reasons = Vec::new();
     if !waiting.is_empty() {
-        let mut waits_for: Vec<u32> = waiting.iter().map(|(_, k)| *k).collect();
-        waits_for.sort_unstable();
-        waits_for.dedup();
-        reasons.push(format!(
-            "{label}unit tests: {} of {} wait for {}, not written yet (left out: they run its code)",
-            waiting.len(),
-            t.passed + t.failed,
-            checkpoints_text(&waits_for)
-        ));
+        let mut checkpoints: Vec<u32> = waiting.iter().map(|(_, k)| *k).collect();
+        checkpoints.sort_unstable();
+        checkpoints.dedup();
+        reasons.push(Reason::TestsWait {
+            part,
+            waiting: waiting.len(),
+            of: t.passed + t.failed,
+            checkpoints,
+        });
     }
     // The test's own name reads as a sentence; its module path is the checkpoint's.
-    let failures: Vec<&str> = t
+    let names: Vec<String> = t
         .failures
         .iter()
         .filter(|f| !waiting.iter().any(|(w, _)| w == *f))
-        .map(|f| f.rsplit("::").next().unwrap_or(f))
+        .map(|f| f.rsplit("::").next().unwrap_or(f).to_string())
         .collect();
     if context.not_started(id) {
         // Said once for the whole checkpoint.
-    } else if let Some(e) = &t.error {
-        reasons.push(format!("{label}unit tests: {e}"));
+    } else if let Some(error) = &t.error {
+        reasons.push(Reason::TestsDidNotRun { part, error: error.clone() });
     } else if t.failed as usize > waiting.len() {
         let failed = t.failed as usize - waiting.len();
-        let more = failed.saturating_sub(SHOWN_FAILURES);
-        let more = if more > 0 { format!(" and {more} more") } else { String::new() };
-        reasons.push(format!(
-            "{label}unit tests: {failed} of {} failed: {}{more}",
-            t.passed as usize + failed,
-            failures[..failures.len().min(SHOWN_FAILURES)].join(", ")
-        ));
+        reasons.push(Reason::TestsFailed { part, failed, of: t.passed as usize + failed, names });
     } else if t.passed == 0 && waiting.is_empty() {
-        reasons.push(format!("{label}unit tests: `cargo test {}` ran no test", part.filter));
+        reasons.push(Reason::NoTests { part, filter: checks.filter.to_string() });
     }
     (reasons, context.fraction(t, id))
 }
 
-/// "ssim: got 0.9120, needs >= 0.9900, ..." for the checks that failed.
-fn failed_checks(s: &SceneResult) -> String {
-    let failed: Vec<String> = s
-        .checks
+/// The checks of a scene that failed.
+fn failed_checks(s: &SceneResult) -> Vec<FailedCheck> {
+    s.checks
         .iter()
         .filter(|(_, m)| !m.passed)
         .map(|(c, m)| match (&s.tiles, c.metric) {
             (Some(v), Metric::TileTest) => {
                 let tile = s.scene.tile_test.as_ref().map_or(1, |t| t.tile);
                 let (x, y) = tile_origin(v.failures[0].tile, tile, s.reference.width());
-                format!(
-                    "tile test: {} of {} tiles differ from the reference beyond their noise; the first, at pixels ({x}, {y}) to ({}, {}): {}",
-                    v.failures.len(),
-                    v.tiles.len(),
-                    x + tile - 1,
-                    y + tile - 1,
-                    v.failures[0].reason
-                )
+                FailedCheck::Tiles {
+                    failed: v.failures.len(),
+                    of: v.tiles.len(),
+                    first: [x, y, x + tile - 1, y + tile - 1],
+                    reason: v.failures[0].reason.clone(),
+                }
             }
-            _ => format!("{}: got {:.4}, needs {}", c.label(), m.value, c.threshold_text()),
+            _ => FailedCheck::Metric { check: c.clone(), value: m.value },
         })
-        .collect();
-    failed.join(", ")
+        .collect()
 }
 
 #[cfg(test)]
@@ -361,6 +334,7 @@ mod tests {
 
     use crate::fingerprint::Naming;
     use crate::outcome::SceneStatus;
+    use crate::report::reasons::{advice_line, kept_text, reason_lines};
     use crate::rubric::Rubric;
     use image::RgbImage;
     use std::path::{Path, PathBuf};
@@ -407,9 +381,12 @@ mod tests {
         let scene = SceneResult { named: Some(named), ..failed_scene(&rubric, "room") };
         let tests = runs(|id| id == 2);
         let two = score_checkpoint(&rubric.checkpoints[1], &[scene], &culprit(&tests, &[]));
-        let at = two.reasons.iter().position(|r| r.starts_with("scene room: ")).expect("the scene's reason");
+        let at = reason_lines(&two)
+            .iter()
+            .position(|r| r.starts_with("scene room: "))
+            .expect("the scene's reason");
         assert_eq!(
-            two.reasons.get(at + 1).map(String::as_str),
+            reason_lines(&two).get(at + 1).map(String::as_str),
             Some("scene room looks like a known mistake of checkpoint 2: back faces culled (0.9900 to that mistake's render, 0.1000 to the reference); read checkpoints/02-triangle.md, section \"Symptoms of common mistakes\"")
         );
     }
@@ -456,7 +433,8 @@ mod tests {
         let tests = runs(|id| id == 2);
         let scenes = failed_scenes_running(&rubric, 2);
         for c in scored(&rubric, &tests, &[], &scenes) {
-            let image_reasons: Vec<&String> = c.reasons.iter().filter(|r| r.starts_with("scene")).collect();
+            let lines = reason_lines(&c);
+            let image_reasons: Vec<&String> = lines.iter().filter(|r| r.starts_with("scene")).collect();
             if c.checkpoint.id == 2 {
                 assert!(c.advice.is_some() && !image_reasons.is_empty());
             } else {
@@ -479,7 +457,7 @@ mod tests {
         let results = scored(&rubric, &tests, &[3, 4, 5, 6, 7, 8, 9], &scenes);
         assert_eq!(results[1].score(), results[1].max_score(true));
         for c in &results[2..] {
-            assert!(c.advice.as_deref().is_some_and(|a| a.starts_with("Not started")), "{:?}", c.advice);
+            assert!(advice_line(c).is_some_and(|a| a.starts_with("Not started")), "{:?}", c.advice);
         }
     }
 
@@ -505,11 +483,11 @@ mod tests {
         assert_eq!(result.test_score, six.test_points + hidden.test_points / 2.0);
         assert_eq!(result.max_score(true), six.all_test_points() + six.all_image_points());
         assert!(
-            result.reasons.iter().any(|r| r.starts_with("hidden unit tests: 1 of 2 failed")),
+            reason_lines(&result).iter().any(|r| r.starts_with("hidden unit tests: 1 of 2 failed")),
             "{:?}",
             result.reasons
         );
-        assert!(result.reasons.iter().any(|r| r.starts_with("hidden scene ")), "{:?}", result.reasons);
+        assert!(reason_lines(&result).iter().any(|r| r.starts_with("hidden scene ")), "{:?}", result.reasons);
         assert_eq!(result.tests_cell(), "5/5 + hidden 1/2");
     }
 
@@ -529,11 +507,13 @@ mod tests {
         assert_eq!(isolated.image_score, 0.0);
         assert!(isolated.advice.is_some());
         assert!(
-            isolated.reasons.iter().any(|r| r.contains("checkpoint 5's tests fail with your checkpoint 2")),
+            reason_lines(&isolated)
+                .iter()
+                .any(|r| r.contains("checkpoint 5's tests fail with your checkpoint 2")),
             "{:?}",
             isolated.reasons
         );
-        assert!(isolated.reasons.iter().all(|r| !r.contains("not started")), "{:?}", isolated.reasons);
+        assert!(reason_lines(&isolated).iter().all(|r| !r.contains("not started")), "{:?}", isolated.reasons);
     }
 
     /// A scene that stops in checkpoint `k`'s stub, as the render child reports it, explained.
@@ -555,7 +535,8 @@ mod tests {
         let context = culprit(&tests, &stubbed);
         let scene = stopped_in_the_stub_of(&rubric, "intersection_test", 4, &context);
         let status = scene_status(&scene, &[2], &context);
-        let SceneStatus::NotCounted(note) = &status else { panic!("{status:?}") };
+        let SceneStatus::NotCounted(kept) = &status else { panic!("{status:?}") };
+        let note = kept_text(kept);
         assert!(note.contains("waiting for checkpoints 3, 4 and 5, not written yet"), "{note}");
         assert_eq!(status.word(), "-");
         let two = score_checkpoint(&rubric.checkpoints[1], std::slice::from_ref(&scene), &context);
@@ -591,7 +572,8 @@ mod tests {
         assert_eq!(scene_status(&scene, &[2], &context), SceneStatus::Failed);
         let two = score_checkpoint(&rubric.checkpoints[1], &[scene], &context);
         assert_eq!(two.image_score, 0.0);
-        let reason = two.reasons.iter().find(|r| r.starts_with("scene ")).expect("a scene reason");
+        let lines = reason_lines(&two);
+        let reason = lines.iter().find(|r| r.starts_with("scene ")).expect("a scene reason");
         assert_eq!(
             reason,
             "scene intersection_test: your checkpoint 2 tests fail; the scene could not run: checkpoint 4 is not written yet"
@@ -627,11 +609,15 @@ mod tests {
         assert_eq!(waiting.waiting, 3);
         assert_eq!(waiting.tests_cell(), "6/7 + 3 wait");
         assert!(
-            waiting.reasons.iter().any(|r| r.contains("3 of 10 wait for checkpoint 4")),
+            reason_lines(&waiting).iter().any(|r| r.contains("3 of 10 wait for checkpoint 4")),
             "{:?}",
             waiting.reasons
         );
-        assert!(waiting.reasons.iter().any(|r| r.contains("1 of 7 failed: t3")), "{:?}", waiting.reasons);
+        assert!(
+            reason_lines(&waiting).iter().any(|r| r.contains("1 of 7 failed: t3")),
+            "{:?}",
+            waiting.reasons
+        );
         for failing in [graded(&tests, &[], Blame::Culprit), graded(&tests, &[4], Blame::Isolated)] {
             assert_eq!(failing.test_score, five.test_points * 0.6);
             assert_eq!((failing.waiting, failing.tests_cell().as_str()), (0, "6/10"));

@@ -10,7 +10,7 @@ use image::RgbImage;
 use crate::noisy::{tile_origin, NoisyVerdict};
 use crate::outcome::{GradeReport, SceneResult, SceneStatus};
 use crate::report::heatmap::heatmap;
-use crate::report::named_text;
+use crate::report::reasons::{advice_line, checkpoints_text, kept_text, named_text, reason_lines};
 use crate::report::tile_map::{tile_map, LEGEND};
 use crate::rubric::TileTest;
 
@@ -38,9 +38,8 @@ pub fn page(report: &GradeReport) -> String {
     for c in &report.checkpoints {
         let (tests, images) = (c.tests_cell(), c.images_cell());
         let class = if c.reasons.is_empty() { "pass" } else { "fail" };
-        let reasons: Vec<String> = c.reasons.iter().map(|r| escape(r)).collect();
-        let hint =
-            c.advice.as_ref().map_or(String::new(), |a| format!("<p class=\"hint\">{}</p>", escape(a)));
+        let reasons: Vec<String> = reason_lines(c).iter().map(|r| escape(r)).collect();
+        let hint = advice_line(c).map_or(String::new(), |a| format!("<p class=\"hint\">{}</p>", escape(&a)));
         let _ = writeln!(h, "<tr><td>{}</td><td>{}</td><td>{tests}</td><td>{images}</td><td class=\"{class}\">{:.1}/{:.0}</td><td>{}{hint}</td></tr>",
             c.checkpoint.id, escape(&c.checkpoint.title), c.score(), c.max_score(report.tests_ran), reasons.join("<br>"));
     }
@@ -79,7 +78,7 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         [] => rendered,
         ids => format!(
             "{rendered}; {} not written yet, so drawn by {} stand-in (the same picture, no points for {})",
-            crate::report::checkpoints_text(ids),
+            checkpoints_text(ids),
             if ids.len() > 1 { "their" } else { "its" },
             if ids.len() > 1 { "them" } else { "it" }
         ),
@@ -119,8 +118,8 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         h.push_str("</div>\n");
     }
     match (&s.status, &s.error) {
-        (SceneStatus::NotCounted(note), _) => {
-            let _ = writeln!(h, "<p class=\"wait\">{}</p>", escape(note));
+        (SceneStatus::NotCounted(kept), _) => {
+            let _ = writeln!(h, "<p class=\"wait\">{}</p>", escape(&kept_text(kept)));
         }
         (_, Some(e)) => {
             let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(e));
@@ -141,8 +140,8 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         .iter()
         .filter(|c| s.status == SceneStatus::Failed && s.scene.depends_on.contains(&c.checkpoint.id))
     {
-        if let Some(advice) = &c.advice {
-            let _ = writeln!(h, "<p class=\"hint\">Checkpoint {}: {}</p>", c.checkpoint.id, escape(advice));
+        if let Some(advice) = advice_line(c) {
+            let _ = writeln!(h, "<p class=\"hint\">Checkpoint {}: {}</p>", c.checkpoint.id, escape(&advice));
         }
     }
     h.push_str("</section>\n");

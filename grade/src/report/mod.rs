@@ -4,6 +4,7 @@
 
 pub mod heatmap;
 pub mod html;
+pub mod reasons;
 pub mod tile_map;
 
 use std::fmt::Write;
@@ -11,12 +12,11 @@ use std::path::Path;
 
 use serde_json::json;
 
-use crate::fingerprint::Naming;
 use crate::images::write_png;
 use crate::outcome::{GradeReport, SceneStatus};
 use crate::report::heatmap::heatmap;
+use crate::report::reasons::{advice_line, kept_text, reason_lines};
 use crate::report::tile_map::tile_map;
-use crate::rubric::Checkpoint;
 
 /// The table a person reads: per scene, every check; then per checkpoint, the points and why
 /// points were lost, with the handout to read.
@@ -53,8 +53,8 @@ pub fn text(report: &GradeReport) -> String {
                 check.threshold_text()
             );
         }
-        if let SceneStatus::NotCounted(note) = &s.status {
-            let _ = writeln!(out, "{:<18} {note}", "");
+        if let SceneStatus::NotCounted(kept) = &s.status {
+            let _ = writeln!(out, "{:<18} {}", "", kept_text(kept));
         }
     }
     let _ = writeln!(out);
@@ -69,10 +69,10 @@ pub fn text(report: &GradeReport) -> String {
             "{:<3} {:<44} {tests:>width$} {images:>9} {points:>11}",
             c.checkpoint.id, c.checkpoint.title
         );
-        for reason in &c.reasons {
+        for reason in reason_lines(c) {
             let _ = writeln!(out, "      - {reason}");
         }
-        if let Some(advice) = &c.advice {
+        if let Some(advice) = advice_line(c) {
             let _ = writeln!(out, "      hint: {advice}");
         }
     }
@@ -122,10 +122,10 @@ pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
     let mut tests = Vec::new();
     for c in &report.checkpoints {
         let id = c.checkpoint.id;
-        let output = match (&c.advice, c.reasons.is_empty()) {
-            (_, true) => "All checks passed.".to_string(),
-            (Some(advice), false) => format!("{}\nHint: {advice}", c.reasons.join("\n")),
-            (None, false) => c.reasons.join("\n"),
+        let output = match (advice_line(c), reason_lines(c)) {
+            (_, reasons) if reasons.is_empty() => "All checks passed.".to_string(),
+            (Some(advice), reasons) => format!("{}\nHint: {advice}", reasons.join("\n")),
+            (None, reasons) => reasons.join("\n"),
         };
         let mut part = |number: &str, name: String, score: f64, max: f64| {
             let status = if (score - max).abs() < 1e-9 { "passed" } else { "failed" };
@@ -163,36 +163,6 @@ pub fn gradescope_json(report: &GradeReport) -> serde_json::Value {
         "output": text(report),
         "tests": tests,
     })
-}
-
-/// The checkpoint's hint and where to read more: its handout's list of mistakes and symptoms.
-pub fn hint_text(checkpoint: &Checkpoint) -> String {
-    format!(
-        "{} Read {}, section \"Symptoms of common mistakes\".",
-        checkpoint.hint,
-        checkpoint.handout.display()
-    )
-}
-
-/// What a failed scene looks like, with the evidence and where to read about it: `scene room
-/// looks like a known mistake of checkpoint 2: det < 0 treated as a miss (0.9993 to that
-/// mistake's render, 0.1041 to the reference); read checkpoints/02-triangle.md, ...`.
-pub fn named_text(scene: &str, named: &Naming) -> String {
-    let e = &named.entry;
-    format!(
-        "scene {scene} looks like a known mistake of checkpoint {}: {} ({:.4} to that mistake's render, {:.4} to the reference); read {}, section \"Symptoms of common mistakes\"",
-        e.checkpoint, e.description, named.to_mistake, named.to_reference, e.handout
-    )
-}
-
-/// "checkpoint 3", "checkpoints 3 and 4", "checkpoints 3, 4 and 5".
-pub fn checkpoints_text(ids: &[u32]) -> String {
-    let names: Vec<String> = ids.iter().map(u32::to_string).collect();
-    match names.as_slice() {
-        [one] => format!("checkpoint {one}"),
-        [first @ .., last] => format!("checkpoints {} and {last}", first.join(", ")),
-        [] => "no checkpoint".to_string(),
-    }
 }
 
 fn round2(x: f64) -> f64 {

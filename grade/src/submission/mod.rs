@@ -23,12 +23,14 @@ use crate::outcome::{Blame, CheckpointResult, GradeReport, Phases};
 use crate::plain::is_plain_dir;
 use crate::regions::baseline::{starter_manifest, Baseline, StarterManifest};
 use crate::report::gradescope_json;
+use crate::report::reasons::{advice_line, reason_lines};
 use crate::run::build_error::BuildError;
 use crate::run::cargo::BUILD_TIME_LIMIT;
 use crate::run::unit_tests::build_tests;
 use crate::submission::splice::{
     read_submission, write_spliced_tree, NotCompiling, Submission, Taken, STUDENT_ENV,
 };
+use crate::verdict::Reason;
 
 /// A graded submission.
 #[derive(Clone, Debug)]
@@ -113,8 +115,7 @@ pub fn grade_submission(
         // A rejected region's code never runs: the starter's stub stands in its place, so it
         // scores exactly what the stub scores there.
         if submission.rejected().contains(&id) {
-            let reason = "a region was rejected (see below): graded with the starter's stub in its place";
-            result.reasons.insert(0, reason.to_string());
+            result.reasons.insert(0, Reason::RegionRejected { own_tree: false });
         }
         checkpoints.push(result);
     }
@@ -144,8 +145,7 @@ fn grade_own_tree(
     let mut report =
         grade(&GradeOptions { code: Some(dir.to_path_buf()), ..GradeOptions::new(root) }, progress)?;
     for c in report.checkpoints.iter_mut().filter(|c| submission.rejected().contains(&c.checkpoint.id)) {
-        let reason = "a region was rejected (see below): graded here as written, but the instructor's grader runs the starter's stub in its place";
-        c.reasons.insert(0, reason.to_string());
+        c.reasons.insert(0, Reason::RegionRejected { own_tree: true });
     }
     let phases = report.phases;
     Ok(SubmissionReport {
@@ -211,14 +211,15 @@ pub fn text(report: &SubmissionReport) -> String {
             points(own),
             points(whole)
         );
-        for reason in &own.reasons {
+        for reason in reason_lines(own) {
             let _ = writeln!(out, "      - {reason}");
         }
-        if let Some(advice) = &own.advice {
+        if let Some(advice) = advice_line(own) {
             let _ = writeln!(out, "      hint: {advice}");
         }
         if (own.score() - whole.score()).abs() > 1e-9 {
-            for reason in whole.reasons.iter().filter(|r| !own.reasons.contains(r)) {
+            let own_lines = reason_lines(own);
+            for reason in reason_lines(whole).into_iter().filter(|r| !own_lines.contains(r)) {
                 let _ = writeln!(out, "      whole renderer: {reason}");
             }
         }

@@ -1,0 +1,148 @@
+//! The words of a verdict ([`crate::verdict`]): why a checkpoint lost points, why a failed scene
+//! costs one nothing, what to read. Text, HTML and Gradescope's JSON all say it in these words.
+
+use crate::fingerprint::Naming;
+use crate::outcome::CheckpointResult;
+use crate::rubric::Checkpoint;
+use crate::verdict::{Advice, FailedCheck, Kept, Loss, Part, Reason, Why};
+
+/// A reason names this many failing tests; `cargo test checkpointN` shows them all.
+const SHOWN_FAILURES: usize = 3;
+
+/// Why the checkpoint of `result` lost points, one line each.
+pub fn reason_lines(result: &CheckpointResult) -> Vec<String> {
+    result.reasons.iter().map(reason_text).collect()
+}
+
+/// What the student of `result`'s checkpoint should read or do, if it is to blame.
+pub fn advice_line(result: &CheckpointResult) -> Option<String> {
+    result.advice.as_ref().map(|advice| advice_text(advice, &result.checkpoint))
+}
+
+/// One line of a report for `reason`.
+pub fn reason_text(reason: &Reason) -> String {
+    match reason {
+        Reason::NotStarted => "not started: its code is still the starter's todo!()".to_string(),
+        Reason::RegionRejected { own_tree: false } => {
+            "a region was rejected (see below): graded with the starter's stub in its place".to_string()
+        }
+        Reason::RegionRejected { own_tree: true } => "a region was rejected (see below): graded here as written, but the instructor's grader runs the starter's stub in its place".to_string(),
+        Reason::TestsWait { part, waiting, of, checkpoints } => format!(
+            "{}unit tests: {waiting} of {of} wait for {}, not written yet (left out: they run its code)",
+            label(*part),
+            checkpoints_text(checkpoints)
+        ),
+        Reason::TestsDidNotRun { part, error } => format!("{}unit tests: {error}", label(*part)),
+        Reason::TestsFailed { part, failed, of, names } => {
+            let more = failed.saturating_sub(SHOWN_FAILURES);
+            let more = if more > 0 { format!(" and {more} more") } else { String::new() };
+            let shown = names[..names.len().min(SHOWN_FAILURES)].join(", ");
+            format!("{}unit tests: {failed} of {of} failed: {shown}{more}", label(*part))
+        }
+        Reason::NoTests { part, filter } => {
+            format!("{}unit tests: `cargo test {filter}` ran no test", label(*part))
+        }
+        Reason::SceneLost { part, scene, loss } => format!("{}scene {scene}: {}", label(*part), loss_text(loss)),
+        Reason::LooksLike { scene, naming } => named_text(scene, naming),
+    }
+}
+
+/// `""` or `"hidden "`: how a reason about the hidden checks begins.
+fn label(part: Part) -> &'static str {
+    match part {
+        Part::Public => "",
+        Part::Hidden => "hidden ",
+    }
+}
+
+/// Who is to blame for a lost scene, and why it failed.
+fn loss_text(loss: &Loss) -> String {
+    match loss {
+        Loss::Yours(why) => why_text(why),
+        Loss::OthersFailWithYours { why, other, own } => format!(
+            "{} (checkpoint {other}'s tests fail with your checkpoint {own}: only checkpoint {own} is your code in this grade)",
+            why_text(why)
+        ),
+        Loss::UntilWritten(k) => format!("lost until checkpoint {k} is written: the scene runs its code"),
+        Loss::EarlierWrong { earlier: k, why } => format!(
+            "lost because checkpoint {k} is wrong (its unit tests fail); fix checkpoint {k} first ({})",
+            why_text(why)
+        ),
+        Loss::NotWritten(id) => format!("checkpoint {id} is not written yet"),
+        Loss::YourTestsFail { own, why } => format!("your checkpoint {own} tests fail; {}", why_text(why)),
+    }
+}
+
+/// Why a failed scene costs a checkpoint nothing, for its row.
+pub fn kept_text(kept: &Kept) -> String {
+    match kept {
+        Kept::Waiting { own, waiting } => format!(
+            "not counted against checkpoint {own}: waiting for {}, not written yet (the scene runs {})",
+            checkpoints_text(waiting),
+            if waiting.len() > 1 { "their code" } else { "its code" }
+        ),
+        Kept::LaterWrong { own, later, why } => format!(
+            "not counted against checkpoint {own}: checkpoint {later}'s tests fail, fix it first ({})",
+            why_text(why)
+        ),
+    }
+}
+
+/// Why a scene failed: its error, or "ssim: got 0.9120, needs >= 0.9900, ..." for the checks
+/// that failed.
+fn why_text(why: &Why) -> String {
+    match why {
+        Why::Error(error) => error.clone(),
+        Why::Differs => "the image differs from the reference".to_string(),
+        Why::Checks(checks) => checks.iter().map(failed_check_text).collect::<Vec<_>>().join(", "),
+    }
+}
+
+fn failed_check_text(check: &FailedCheck) -> String {
+    match check {
+        FailedCheck::Metric { check, value } => {
+            format!("{}: got {value:.4}, needs {}", check.label(), check.threshold_text())
+        }
+        FailedCheck::Tiles { failed, of, first: [x, y, right, bottom], reason } => format!(
+            "tile test: {failed} of {of} tiles differ from the reference beyond their noise; the first, at pixels ({x}, {y}) to ({right}, {bottom}): {reason}"
+        ),
+    }
+}
+
+/// What to read or do.
+pub fn advice_text(advice: &Advice, checkpoint: &Checkpoint) -> String {
+    match advice {
+        Advice::NotStarted { handout } => format!("Not started yet: read {} first.", handout.display()),
+        Advice::Hint => hint_text(checkpoint),
+    }
+}
+
+/// The checkpoint's hint and where to read more: its handout's list of mistakes and symptoms.
+pub fn hint_text(checkpoint: &Checkpoint) -> String {
+    format!(
+        "{} Read {}, section \"Symptoms of common mistakes\".",
+        checkpoint.hint,
+        checkpoint.handout.display()
+    )
+}
+
+/// What a failed scene looks like, with the evidence and where to read about it: `scene room
+/// looks like a known mistake of checkpoint 2: det < 0 treated as a miss (0.9993 to that
+/// mistake's render, 0.1041 to the reference); read checkpoints/02-triangle.md, ...`.
+pub fn named_text(scene: &str, named: &Naming) -> String {
+    let e = &named.entry;
+    format!(
+        "scene {scene} looks like a known mistake of checkpoint {}: {} ({:.4} to that mistake's render, {:.4} to the reference); read {}, section \"Symptoms of common mistakes\"",
+        e.checkpoint, e.description, named.to_mistake, named.to_reference, e.handout
+    )
+}
+
+/// "checkpoint 3", "checkpoints 3 and 4", "checkpoints 3, 4 and 5".
+pub fn checkpoints_text(ids: &[u32]) -> String {
+    let names: Vec<String> = ids.iter().map(u32::to_string).collect();
+    match names.as_slice() {
+        [one] => format!("checkpoint {one}"),
+        [first @ .., last] => format!("checkpoints {} and {last}", first.join(", ")),
+        [] => "no checkpoint".to_string(),
+    }
+}
