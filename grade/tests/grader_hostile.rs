@@ -20,7 +20,8 @@ use std::process::Command;
 
 use raylab_grade::instructor::fixture;
 use raylab_grade::reference::inputs_hash;
-use raylab_grade::regions::stub::{region_bodies, rust_files};
+use raylab_grade::regions::markers::find_regions;
+use raylab_grade::regions::stub::rust_files;
 use raylab_grade::submission::scratch::{copy_tree, NOT_COPIED};
 use raylab_grade::submission::splice::{HIDDEN_DIRS, UNCHECKED_ENV};
 
@@ -73,7 +74,7 @@ fn png_with_text(png: &[u8], token: &str) -> Vec<u8> {
 /// `token` in a comment at the top of every region body of the Rust files below `tree/src`.
 fn plant_in_regions(tree: &Path, token: &str) {
     for (path, text) in rust_files(&tree.join("src")).unwrap() {
-        let mut starts: Vec<usize> = (1..=9).flat_map(|n| region_bodies(&text, n)).map(|r| r.start).collect();
+        let mut starts: Vec<usize> = find_regions(&text).unwrap().iter().map(|f| f.body.start).collect();
         starts.sort_by(|a, b| b.cmp(a));
         let mut out = text.clone();
         for start in &starts {
@@ -212,8 +213,7 @@ fn grader_holds_against_every_hostile_submission_in_one_class() {
         assert_eq!(planted, files, "{folder}");
     }
     let with_regions = rust_files(&repo.join("src")).unwrap();
-    let with_regions =
-        with_regions.iter().filter(|(_, t)| (1..=9).any(|n| !region_bodies(t, n).is_empty())).count();
+    let with_regions = with_regions.iter().filter(|(_, t)| !find_regions(t).unwrap().is_empty()).count();
     assert_eq!(holding(&instructor.join("src"), SOLUTION_CANARY).0, with_regions);
 
     let mut names = fixture::names(&repo).unwrap();

@@ -78,9 +78,6 @@ enum Command {
     },
 }
 
-/// Every checkpoint that has solution regions or tests.
-const CHECKPOINTS: [u32; 9] = [1, 2, 3, 4, 5, 6, 7, 8, 9];
-
 fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Starter { out } => {

@@ -8,9 +8,10 @@ use std::path::{Path, PathBuf};
 use raylab_grade::instructor::package::tracked_files;
 use raylab_grade::instructor::variants::stub_tree;
 use raylab_grade::regions::baseline::write_starter_manifest;
-use raylab_grade::regions::stub::{region_bodies, rust_files};
+use raylab_grade::regions::markers::find_regions;
+use raylab_grade::regions::stub::rust_files;
 
-use crate::{repository, CHECKPOINTS};
+use crate::repository;
 
 /// Left out of the starter: instructor-only material (this generator, the benchmarks, the
 /// mistake catalogue and what it measured, and the instructor's CI, which runs them). Paths are
@@ -85,7 +86,9 @@ pub fn starter(out: &Path) -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", workflow.display()))?;
     std::fs::write(&workflow, crate::classroom::workflow(&rubric))
         .map_err(|e| format!("{}: {e}", workflow.display()))?;
-    stub_tree(&out.join("src"), &CHECKPOINTS).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
+    // The rubric's checkpoints: a region of any other would survive, and is refused just below.
+    let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
+    stub_tree(&out.join("src"), &ids).map_err(|e| format!("stubbing {}: {e}", out.display()))?;
     let survivors = surviving_solution_lines(&root.join("src"), &out.join("src"))?;
     if !survivors.is_empty() {
         return Err(format!("solution lines survive in the starter: {survivors:?}"));
@@ -149,7 +152,7 @@ fn student_text(text: &str) -> Result<String, String> {
 fn surviving_solution_lines(solution: &Path, starter: &Path) -> Result<Vec<String>, String> {
     let (mut inside, mut outside) = (BTreeSet::new(), BTreeSet::new());
     for text in rust_texts(solution)? {
-        let regions: Vec<_> = CHECKPOINTS.iter().flat_map(|&n| region_bodies(&text, n)).collect();
+        let regions: Vec<_> = find_regions(&text).unwrap_or_default().into_iter().map(|f| f.body).collect();
         let mut offset = 0;
         for line in text.split_inclusive('\n') {
             let set = if regions.iter().any(|r| r.contains(&offset)) { &mut inside } else { &mut outside };

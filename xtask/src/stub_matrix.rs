@@ -1,13 +1,16 @@
 //! The stub matrix: each checkpoint N stubbed alone, in a scratch tree, fails all of its own
 //! tests, hidden ones included, and passes every test of the checkpoints before it.
 
+use std::collections::BTreeSet;
 use std::time::Duration;
 
 use raylab_grade::instructor::variants::{make_scratch_tree, Variant};
+use raylab_grade::regions::markers::checkpoints_in;
+use raylab_grade::regions::stub::rust_files;
 use raylab_grade::rubric::Rubric;
 use raylab_grade::run::unit_tests::build_tests;
 
-use crate::{repository, CHECKPOINTS};
+use crate::repository;
 
 /// Builds each single-checkpoint stub in a scratch tree (one shared target folder) and runs the
 /// test filters of that checkpoint and the ones before it.
@@ -23,7 +26,10 @@ pub fn stub_matrix() -> Result<(), String> {
         checkpoint.map(|c| c.test_filter.clone()).into_iter().chain(hidden).collect::<Vec<_>>()
     };
     let mut problems = Vec::new();
-    for n in CHECKPOINTS.into_iter().skip(1) {
+    // Every checkpoint with regions in the renderer, as their markers say.
+    let sources = rust_files(&repository().join("src")).map_err(|e| format!("src: {e}"))?;
+    let with_regions: BTreeSet<u32> = sources.iter().flat_map(|(_, text)| checkpoints_in(text)).collect();
+    for n in rubric.checkpoints.iter().map(|c| c.id).filter(|n| with_regions.contains(n)) {
         let variant = Variant {
             name: format!("stub_{n}"),
             checkpoint: n,

@@ -15,7 +15,7 @@ use serde::Deserialize;
 use crate::file_error::read_toml;
 use crate::regions::lexer::line_at;
 use crate::regions::markers::find_regions;
-use crate::regions::stub::{region_bodies, region_function, rust_files};
+use crate::regions::stub::rust_files;
 use crate::submission::scratch::{copy_tree, NOT_COPIED};
 use crate::submission::splice::HIDDEN_DIRS;
 
@@ -178,9 +178,11 @@ fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), String> {
     for edit in &fixture.region {
         let path = dir.join(&edit.file);
         let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
-        let range = (1..=9)
-            .flat_map(|n| region_bodies(&text, n))
-            .find(|r| region_function(&text, r.start) == edit.function)
+        let range = find_regions(&text)
+            .unwrap_or_default()
+            .into_iter()
+            .find(|f| f.function == edit.function)
+            .map(|f| f.body)
             .ok_or_else(|| format!("no region of {} in {}", edit.function, edit.file.display()))?;
         let mut out = text.clone();
         out.replace_range(range, &edit.body.trim_start_matches('\n').replace(UNCHECKED, &unchecked_token()));

@@ -16,8 +16,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::plain::{kind, quote, read_plain, walk, FileKind, MAX_FILE_BYTES};
 use crate::reference::fnv1a_hex;
-use crate::regions::markers::{find_regions, Region, REGION_CHECKPOINTS};
-use crate::regions::stub::{region_bodies, rust_files};
+use crate::regions::markers::{find_regions, Region};
+use crate::regions::stub::rust_files;
 
 /// The starter's manifest, relative to the starter (never in the instructor's tree).
 pub const STARTER_MANIFEST: &str = "grade/starter-manifest.json";
@@ -203,7 +203,7 @@ fn package_part(bytes: &[u8]) -> String {
 pub fn blank_regions(bytes: &[u8]) -> Vec<u8> {
     let Ok(text) = std::str::from_utf8(bytes) else { return bytes.to_vec() };
     let mut ranges: Vec<std::ops::Range<usize>> =
-        REGION_CHECKPOINTS.flat_map(|checkpoint| region_bodies(text, checkpoint)).collect();
+        find_regions(text).unwrap_or_default().into_iter().map(|f| f.body).collect();
     ranges.sort_by_key(|r| std::cmp::Reverse(r.start));
     let mut out = text.to_string();
     for range in ranges {

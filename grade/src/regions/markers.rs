@@ -12,9 +12,6 @@ use std::path::PathBuf;
 
 use crate::regions::lexer::{tokens, Kind, LexError, Token};
 
-/// Checkpoints that can have solution regions.
-pub const REGION_CHECKPOINTS: std::ops::RangeInclusive<u32> = 1..=9;
-
 /// One solution region of the instructor's tree, as the grader names it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Region {
@@ -39,6 +36,15 @@ pub struct Found {
 
 const BEGIN: &str = "// BEGIN SOLUTION checkpoint";
 const END: &str = "// END SOLUTION";
+
+/// The checkpoints with regions in `text`, each once, in order: the markers say which
+/// checkpoints a file has, not a list kept beside them.
+pub fn checkpoints_in(text: &str) -> Vec<u32> {
+    let mut ids: Vec<u32> = find_regions(text).unwrap_or_default().iter().map(|f| f.checkpoint).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    ids
+}
 
 /// Every region of `text`, in order.
 pub fn find_regions(text: &str) -> Result<Vec<Found>, LexError> {

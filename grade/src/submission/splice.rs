@@ -27,7 +27,7 @@ use crate::reference::REFERENCE_DIRS;
 use crate::regions::allow::check_region;
 use crate::regions::baseline::{ignored_files, Baseline};
 use crate::regions::lexer::line_at;
-use crate::regions::markers::{find_regions, Found, Region, REGION_CHECKPOINTS};
+use crate::regions::markers::{checkpoints_in, find_regions, Found, Region};
 use crate::regions::stub::{is_stub, region_bodies, region_function, stub_regions};
 use crate::run::build_error::CompileError;
 use crate::submission::scratch::{copy_tree, write_if_changed};
@@ -162,13 +162,10 @@ impl Submission {
     pub fn code_region_at(&mut self, tree: &Path, file: &Path, line: usize) -> Option<&mut Taken> {
         let text = std::fs::read_to_string(tree.join(file)).ok()?;
         let line_of = |byte: usize| text[..byte].lines().count() + 1;
-        let (checkpoint, start) = REGION_CHECKPOINTS.clone().find_map(|n| {
-            let range = region_bodies(&text, n)
-                .into_iter()
-                .find(|r| (line_of(r.start)..line_of(r.end)).contains(&line))?;
-            Some((n, range.start))
-        })?;
-        let function = region_function(&text, start);
+        let Found { checkpoint, function, .. } = find_regions(&text)
+            .ok()?
+            .into_iter()
+            .find(|f| (line_of(f.body.start)..line_of(f.body.end)).contains(&line))?;
         let (_, taken) = self
             .regions
             .iter_mut()
@@ -277,7 +274,7 @@ pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Pat
         // Every region's new body, for all checkpoints, applied from the end of the file so that
         // the ranges of the original text stay valid.
         let mut bodies: Vec<(std::ops::Range<usize>, String)> = Vec::new();
-        for checkpoint in REGION_CHECKPOINTS {
+        for checkpoint in checkpoints_in(&text) {
             let stubbed = stub_regions(&text, checkpoint);
             let stubs = region_bodies(&stubbed, checkpoint);
             for (range, stub) in region_bodies(&text, checkpoint).into_iter().zip(stubs) {

@@ -2,18 +2,16 @@
 //! declarations, macros by example and attributes, each form with what a region may do with it.
 
 use super::*;
-use crate::regions::stub::{region_bodies, rust_files};
+use crate::regions::markers::find_regions;
+use crate::regions::stub::rust_files;
 
 /// Every region of the reference solution, with its checkpoint.
 fn solution_regions() -> Vec<(u32, String)> {
     let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../src");
     let mut regions = Vec::new();
     for (_, text) in rust_files(&src).unwrap() {
-        for checkpoint in 1..=9 {
-            regions.extend(
-                region_bodies(&text, checkpoint).into_iter().map(|r| (checkpoint, text[r].to_string())),
-            );
-        }
+        let found = find_regions(&text).unwrap();
+        regions.extend(found.into_iter().map(|f| (f.checkpoint, text[f.body].to_string())));
     }
     assert!(regions.len() >= 11, "{regions:?}");
     regions
@@ -365,5 +363,5 @@ fn grader_has_the_compiler_refuse_unsafe_code_in_every_region_file() {
     }
     assert_eq!(allowed, [("geometry/mod.rs".to_string(), Some("pub mod wide;".to_string()))]);
     let wide: Vec<_> = rust_files(&src.join("geometry/wide")).unwrap();
-    assert!(wide.iter().all(|(_, text)| (1..=9).all(|n| region_bodies(text, n).is_empty())));
+    assert!(wide.iter().all(|(_, text)| find_regions(text).unwrap().is_empty()));
 }
