@@ -23,6 +23,7 @@ mod stage_points;
 mod starter;
 mod stub_matrix;
 mod student_loop;
+mod tables;
 mod zoo;
 
 use std::path::{Path, PathBuf};
