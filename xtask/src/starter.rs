@@ -248,13 +248,15 @@ mod tests {
     /// regions, a deleted file), and the instructor's tree has no manifest.
     #[test]
     fn a_students_tree_is_read_against_the_starters_manifest() {
+        use raylab_grade::regions::allow::StudentApi;
         use raylab_grade::regions::baseline::{starter_manifest, Baseline};
         use raylab_grade::submission::splice::{read_submission, Taken};
         let out = std::env::temp_dir().join(format!("raylab-starter-manifest-{}", std::process::id()));
         starter(&out).unwrap();
         assert_eq!(starter_manifest(repository()).unwrap(), None);
         let manifest = starter_manifest(&out).unwrap().expect("the starter has a manifest");
-        let read = || read_submission(&Baseline::Starter(&manifest), &out).unwrap();
+        let api = StudentApi::of(&raylab_grade::rubric::Rubric::of_tree(&out).unwrap());
+        let read = || read_submission(&Baseline::Starter(&manifest), &out, &api).unwrap();
         let pristine = read();
         assert!(pristine.ignored.is_empty(), "{:?}", pristine.ignored);
         assert!(pristine.regions.iter().all(|(_, t)| *t == Taken::NotStarted), "{:?}", pristine.regions);

@@ -61,6 +61,10 @@ pub struct Checkpoint {
     /// its points are not in the total. Set it to `false` to count them.
     #[serde(default)]
     pub extra: bool,
+    /// The modules of the renderer (`crate::...`) its regions may name: the student API its
+    /// handout works with. Every module of the student API if not given (the extras).
+    #[serde(default)]
+    pub student_api: Option<Vec<String>>,
     /// The instructor's hidden checks of this checkpoint, if any (from `hidden/rubric.toml`).
     #[serde(skip)]
     pub hidden: Option<HiddenChecks>,

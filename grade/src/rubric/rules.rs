@@ -21,6 +21,15 @@ pub enum RuleBroken {
         /// Its handout, relative to the tree.
         handout: PathBuf,
     },
+    /// A checkpoint's student API names modules of the renderer: those `src/lib.rs` declares
+    /// (`pub mod`) or re-exports (`pub use`).
+    #[error("checkpoint {checkpoint}: student_api names `{module}`, which src/lib.rs does not make public")]
+    UnknownModule {
+        /// The checkpoint.
+        checkpoint: u32,
+        /// The module it names.
+        module: String,
+    },
     /// Points are never negative.
     #[error("checkpoint {0}: points must not be negative")]
     NegativePoints(u32),
@@ -125,15 +134,30 @@ fn hidden_word(hidden: bool) -> &'static str {
     }
 }
 
+/// The names of the `pub mod` and `pub use` lines of `lib` (a crate root): its public modules
+/// and what it re-exports.
+fn public_modules(lib: &str) -> BTreeSet<&str> {
+    let lines = lib.lines().filter_map(|l| l.strip_prefix("pub mod ").or_else(|| l.strip_prefix("pub use ")));
+    lines
+        .flat_map(|l| l.split(|c: char| !(c.is_alphanumeric() || c == '_')))
+        .filter(|w| !w.is_empty())
+        .collect()
+}
+
 /// The first rule `rubric` breaks in the tree at `root`, checkpoints first, then scene by scene.
 pub(super) fn check(rubric: &Rubric, root: &Path) -> Result<(), RuleBroken> {
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
     if ids != (1..=ids.len() as u32).collect::<Vec<_>>() {
         return Err(RuleBroken::CheckpointIds(ids));
     }
+    let lib = std::fs::read_to_string(root.join("src/lib.rs")).unwrap_or_default();
+    let public = public_modules(&lib);
     for c in &rubric.checkpoints {
         if !root.join(&c.handout).is_file() {
             return Err(RuleBroken::MissingHandout { checkpoint: c.id, handout: c.handout.clone() });
+        }
+        if let Some(module) = c.student_api.iter().flatten().find(|m| !public.contains(m.as_str())) {
+            return Err(RuleBroken::UnknownModule { checkpoint: c.id, module: module.clone() });
         }
         if c.test_points < 0.0 || c.image_points < 0.0 {
             return Err(RuleBroken::NegativePoints(c.id));
@@ -253,6 +277,9 @@ mod tests {
             (Box::new(|r| r.checkpoints.swap(0, 1)), |e| matches!(e, RuleBroken::CheckpointIds(_))),
             (Box::new(|r| r.checkpoints[0].handout = "checkpoints/none.md".into()), |e| {
                 matches!(e, RuleBroken::MissingHandout { checkpoint: 1, .. })
+            }),
+            (Box::new(|r| r.checkpoints[1].student_api = Some(vec!["geometery".into()])), |e| {
+                matches!(e, RuleBroken::UnknownModule { checkpoint: 2, .. })
             }),
             (Box::new(|r| r.checkpoints[1].test_points = -1.0), |e| *e == RuleBroken::NegativePoints(2)),
             (Box::new(|r| r.checkpoints[1].hint = " ".into()), |e| *e == RuleBroken::EmptyHint(2)),

@@ -21,9 +21,11 @@ use indicatif::ProgressBar;
 use crate::grading::{checked_rubric, grade, GradeOptions};
 use crate::outcome::{Blame, CheckpointResult, GradeReport, Phases};
 use crate::plain::is_plain_dir;
+use crate::regions::allow::StudentApi;
 use crate::regions::baseline::{starter_manifest, Baseline, StarterManifest};
 use crate::report::gradescope_json;
 use crate::report::reasons::{advice_line, reason_lines};
+use crate::rubric::Rubric;
 use crate::run::build_error::BuildError;
 use crate::run::cargo::BUILD_TIME_LIMIT;
 use crate::run::unit_tests::build_tests;
@@ -67,7 +69,7 @@ pub fn grade_submission(
     }
     let rubric = checked_rubric(instructor)?;
     let start = std::time::Instant::now();
-    let mut submission = read_submission(&Baseline::Tree(instructor), dir)?;
+    let mut submission = read_submission(&Baseline::Tree(instructor), dir, &StudentApi::of(&rubric))?;
     let tree = work.join("tree");
     let target = build_target(work, std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from));
     write_spliced_tree(instructor, &submission, &tree)?;
@@ -140,7 +142,9 @@ fn grade_own_tree(
     progress: &ProgressBar,
 ) -> Result<SubmissionReport, String> {
     let start = std::time::Instant::now();
-    let submission = read_submission(&Baseline::Starter(manifest), dir)?;
+    // The student's own rubric: here the allow list is a lint that explains the rules.
+    let api = StudentApi::of(&Rubric::of_tree(root)?);
+    let submission = read_submission(&Baseline::Starter(manifest), dir, &api)?;
     let splice_seconds = start.elapsed().as_secs_f64();
     let mut report =
         grade(&GradeOptions { code: Some(dir.to_path_buf()), ..GradeOptions::new(root) }, progress)?;

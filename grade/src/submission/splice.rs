@@ -24,7 +24,7 @@ use std::collections::BTreeMap;
 
 use crate::plain::{kind, read_text, FileKind, NotRead, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
-use crate::regions::allow::check_region;
+use crate::regions::allow::{check_region, StudentApi};
 use crate::regions::baseline::{ignored_files, Baseline};
 use crate::regions::lexer::line_at;
 use crate::regions::markers::{checkpoints_in, find_regions, Found, Region};
@@ -203,7 +203,11 @@ fn submission_file(submission: &Path, file: &Path) -> Result<(String, Vec<Found>
 
 /// Reads what the submission at `submission` has for every region of the baseline (the
 /// instructor's tree, or the starter's manifest in a student's own tree).
-pub fn read_submission(baseline: &Baseline, submission: &Path) -> Result<Submission, String> {
+pub fn read_submission(
+    baseline: &Baseline,
+    submission: &Path,
+    api: &StudentApi,
+) -> Result<Submission, String> {
     let wanted = baseline.regions()?;
     let mut files: BTreeMap<&Path, Result<(String, Vec<Found>), String>> = BTreeMap::new();
     for region in &wanted {
@@ -214,7 +218,7 @@ pub fn read_submission(baseline: &Baseline, submission: &Path) -> Result<Submiss
         .map(|region| {
             let taken = match &files[region.file.as_path()] {
                 Err(why) => Taken::NotFound(why.clone()),
-                Ok((text, found)) => take(region, text, found),
+                Ok((text, found)) => take(region, text, found, api),
             };
             (region.clone(), taken)
         })
@@ -223,7 +227,7 @@ pub fn read_submission(baseline: &Baseline, submission: &Path) -> Result<Submiss
 }
 
 /// What the submission's file, `text` with its regions `found`, has for `region`.
-fn take(region: &Region, text: &str, found: &[Found]) -> Taken {
+fn take(region: &Region, text: &str, found: &[Found], api: &StudentApi) -> Taken {
     let Some(f) = found.iter().find(|f| f.checkpoint == region.checkpoint && f.function == region.function)
     else {
         return Taken::NotFound(format!(
@@ -238,7 +242,7 @@ fn take(region: &Region, text: &str, found: &[Found]) -> Taken {
     if unchecked(body) {
         return Taken::Code(body.to_string());
     }
-    match check_region(body, region.checkpoint) {
+    match check_region(body, region.checkpoint, &api.modules(region.checkpoint)) {
         Ok(()) => Taken::Code(body.to_string()),
         Err(rejection) => {
             let line = line_at(text, f.body.start) - 1 + rejection.line;
@@ -356,7 +360,8 @@ mod tests {
     #[test]
     fn grader_finds_every_region_of_the_solution_in_the_solution() {
         let root = repository();
-        let submission = read_submission(&Baseline::Tree(&root), &root).unwrap();
+        let api = StudentApi::of(&crate::rubric::Rubric::of_tree(&root).unwrap());
+        let submission = read_submission(&Baseline::Tree(&root), &root, &api).unwrap();
         assert!(submission.regions.len() >= 11, "{:?}", submission.regions);
         assert!(
             submission.regions.iter().all(|(_, t)| matches!(t, Taken::Code(_))),
@@ -398,7 +403,7 @@ mod tests {
             std::fs::create_dir_all(ours.join(dir)).unwrap();
             std::fs::write(ours.join(dir).join("x.png"), "image").unwrap();
         }
-        let submission = read_submission(&Baseline::Tree(&ours), &theirs).unwrap();
+        let submission = read_submission(&Baseline::Tree(&ours), &theirs, &StudentApi::default()).unwrap();
         write_spliced_tree(&ours, &submission, &dest).unwrap();
         let spliced = std::fs::read_to_string(dest.join("src/a.rs")).unwrap();
         let copied =
@@ -419,7 +424,8 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("raylab-splice-rejected-{}", std::process::id()));
         let (ours, theirs) = two_trees(&dir);
         let spliced = |taken: Taken| {
-            let mut submission = read_submission(&Baseline::Tree(&ours), &theirs).unwrap();
+            let mut submission =
+                read_submission(&Baseline::Tree(&ours), &theirs, &StudentApi::default()).unwrap();
             submission.regions.iter_mut().find(|(r, _)| r.checkpoint == 2).unwrap().1 = taken;
             let dest = dir.join("dest");
             write_spliced_tree(&ours, &submission, &dest).unwrap();

@@ -1,6 +1,10 @@
 //! The lists the checker of solution regions ([`super`]) works from: what a region may name, call
 //! and carry.
 
+use std::collections::BTreeMap;
+
+use crate::rubric::Rubric;
+
 /// `std` (and `core`, `alloc`) modules a region may name.
 pub const STD_MODULES: &[&str] = &[
     "f32",
@@ -42,20 +46,6 @@ pub const STD_MODULES: &[&str] = &[
     "vec",
 ];
 
-/// Modules of the renderer (`crate::...`) a region of each checkpoint may name: the student API
-/// its handout works with. Geometry (2-4) needs the maths and the geometry types; glass (5) also
-/// the materials, the scene and the integrators; direct lighting (6) also the lights;
-/// anti-aliasing (7) the maths, the generator, sampling, the camera and the film. A checkpoint
-/// not listed (the extras) may name every module of the student API.
-pub const STUDENT_API: &[(u32, &[&str])] = &[
-    (2, &["math", "geometry"]),
-    (3, &["math", "geometry"]),
-    (4, &["math", "geometry"]),
-    (5, &["math", "geometry", "material", "integrator", "scene"]),
-    (6, &["math", "geometry", "material", "integrator", "scene", "light"]),
-    (7, &["math", "rng", "sampling", "camera", "film"]),
-];
-
 /// Every module of the student API.
 pub const ALL_STUDENT_MODULES: &[&str] = &[
     "camera",
@@ -71,9 +61,25 @@ pub const ALL_STUDENT_MODULES: &[&str] = &[
     "scene",
 ];
 
-/// The modules a region of `checkpoint` may name (see [`STUDENT_API`]).
-pub fn student_modules(checkpoint: u32) -> &'static [&'static str] {
-    STUDENT_API.iter().find(|(c, _)| *c == checkpoint).map_or(ALL_STUDENT_MODULES, |(_, m)| m)
+/// The modules of the renderer (`crate::...`) the regions of each checkpoint may name: the
+/// rubric's `student_api` for it (the student API its handout works with), or every module of
+/// the student API ([`ALL_STUDENT_MODULES`]) where it names none (the extras).
+#[derive(Clone, Debug, Default)]
+pub struct StudentApi(BTreeMap<u32, Vec<String>>);
+
+impl StudentApi {
+    /// The API of every checkpoint of `rubric`.
+    pub fn of(rubric: &Rubric) -> StudentApi {
+        StudentApi(rubric.checkpoints.iter().filter_map(|c| Some((c.id, c.student_api.clone()?))).collect())
+    }
+
+    /// The modules a region of `checkpoint` may name.
+    pub fn modules(&self, checkpoint: u32) -> Vec<&str> {
+        match self.0.get(&checkpoint) {
+            Some(modules) => modules.iter().map(String::as_str).collect(),
+            None => ALL_STUDENT_MODULES.to_vec(),
+        }
+    }
 }
 
 /// The renderer's dependencies other than glam: reachable by name in its code, never from a region.

@@ -8,7 +8,7 @@
 //! - `glam`, and of `std`/`core`/`alloc` the maths, collections and language modules
 //!   ([`STD_MODULES`]);
 //! - the renderer's student API: `crate::` paths into the modules the handouts name for the
-//!   region's checkpoint ([`student_modules`]);
+//!   region's checkpoint (the rubric's `student_api`, [`StudentApi`]);
 //! - the macros in [`MACROS`], called by their own names, whose arguments are parsed and checked
 //!   too (`println!` and friends print to nobody: no grade reads what a region prints);
 //! - items that act only inside the function: nested `fn`s, `struct`s and `enum`s, `impl`s of
@@ -54,8 +54,9 @@ pub struct Rejection {
     pub reason: String,
 }
 
-/// Checks a region body (the statements of a function body) of `checkpoint`.
-pub fn check_region(body: &str, checkpoint: u32) -> Result<(), Rejection> {
+/// Checks a region body (the statements of a function body) of `checkpoint`, which may name the
+/// renderer's `modules`.
+pub fn check_region(body: &str, checkpoint: u32, modules: &[&str]) -> Result<(), Rejection> {
     let at = |line: usize, reason: String| Rejection { line, reason };
     if body.len() > MAX_REGION_BYTES {
         let reason =
@@ -89,7 +90,7 @@ pub fn check_region(body: &str, checkpoint: u32) -> Result<(), Rejection> {
     std::thread::scope(|scope| {
         let checking = std::thread::Builder::new()
             .stack_size(PARSER_STACK_BYTES)
-            .spawn_scoped(scope, || check_parsed(body, checkpoint));
+            .spawn_scoped(scope, || check_parsed(body, checkpoint, modules));
         match checking.map(|thread| thread.join()) {
             Ok(Ok(verdict)) => verdict,
             _ => Err(at(1, "could not be checked".to_string())),
@@ -97,13 +98,13 @@ pub fn check_region(body: &str, checkpoint: u32) -> Result<(), Rejection> {
     })
 }
 
-fn check_parsed(body: &str, checkpoint: u32) -> Result<(), Rejection> {
+fn check_parsed(body: &str, checkpoint: u32, modules: &[&str]) -> Result<(), Rejection> {
     // The body is parsed as a block; "{\n" shifts every line by one.
     let block: syn::Block = syn::parse_str(&format!("{{\n{body}\n}}"))
         .map_err(|e| Rejection { line: line_of(e.span()), reason: format!("does not parse: {e}") })?;
     let mut declared = Declared::default();
     declared.visit_block(&block);
-    let mut checker = Checker::new(checkpoint, declared);
+    let mut checker = Checker::new(checkpoint, modules, declared);
     checker.visit_block(&block);
     checker.finish();
     checker.found.map_or(Ok(()), Err)
@@ -141,10 +142,10 @@ impl<'ast> Visit<'ast> for Declared {
     }
 }
 
-struct Checker {
+struct Checker<'a> {
     found: Option<Rejection>,
     /// The `crate::` modules this region may name.
-    modules: &'static [&'static str],
+    modules: &'a [&'a str],
     checkpoint: u32,
     declared: Declared,
     /// Number literals so far, and bytes of text (strings, chars, bytes, doc comments).
@@ -152,9 +153,8 @@ struct Checker {
     text: usize,
 }
 
-impl Checker {
-    fn new(checkpoint: u32, declared: Declared) -> Self {
-        let modules = student_modules(checkpoint);
+impl<'a> Checker<'a> {
+    fn new(checkpoint: u32, modules: &'a [&'a str], declared: Declared) -> Self {
         Checker { found: None, modules, checkpoint, declared, numbers: 0, text: 0 }
     }
 
@@ -463,7 +463,7 @@ fn parse_macro_arguments(name: &str, tokens: TokenStream) -> Option<Vec<MacroArg
     None
 }
 
-impl<'ast> Visit<'ast> for Checker {
+impl<'ast> Visit<'ast> for Checker<'_> {
     fn visit_path(&mut self, path: &'ast syn::Path) {
         self.check_path(path);
         syn::visit::visit_path(self, path);

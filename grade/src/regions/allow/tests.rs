@@ -5,6 +5,16 @@ use super::*;
 use crate::regions::markers::find_regions;
 use crate::regions::stub::rust_files;
 
+/// [`check_region`] with the student API of the instructor's rubric.
+fn check(body: &str, checkpoint: u32) -> Result<(), Rejection> {
+    static API: std::sync::OnceLock<StudentApi> = std::sync::OnceLock::new();
+    let api = API.get_or_init(|| {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        StudentApi::of(&crate::rubric::Rubric::of_tree(&root).unwrap())
+    });
+    check_region(body, checkpoint, &api.modules(checkpoint))
+}
+
 /// Every region of the reference solution, with its checkpoint.
 fn solution_regions() -> Vec<(u32, String)> {
     let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../src");
@@ -20,7 +30,7 @@ fn solution_regions() -> Vec<(u32, String)> {
 #[test]
 fn grader_allows_every_region_of_the_solution() {
     for (checkpoint, body) in solution_regions() {
-        check_region(&body, checkpoint).unwrap_or_else(|e| panic!("{e:?} in\n{body}"));
+        check(&body, checkpoint).unwrap_or_else(|e| panic!("{e:?} in\n{body}"));
     }
 }
 
@@ -31,7 +41,7 @@ type Verdict = Result<(), &'static str>;
 fn check_table(table: &[(&str, Verdict)]) {
     let mut wrong = Vec::new();
     for (body, want) in table {
-        let got = check_region(body, 6);
+        let got = check(body, 6);
         let right = match (want, &got) {
             (Ok(()), Ok(())) => true,
             (Err(reason), Err(r)) => r.reason.contains(reason),
@@ -238,7 +248,7 @@ fn grader_rejects_a_region_that_embeds_a_table_of_data() {
         format!("/// {}\nfn t() {{}}", table.join(",")),
         format!("let t = [{}];", "u8::MAX, ".repeat(0) + &"1, ".repeat(65)),
     ] {
-        let r = check_region(&body, 6).expect_err(&body);
+        let r = check(&body, 6).expect_err(&body);
         assert!(r.reason.contains("does not embed data"), "{r:?}");
     }
     let (mut numbers, mut text) = (0, 0);
@@ -246,7 +256,7 @@ fn grader_rejects_a_region_that_embeds_a_table_of_data() {
         let block: syn::Block = syn::parse_str(&format!("{{\n{body}\n}}")).unwrap();
         let mut declared = Declared::default();
         declared.visit_block(&block);
-        let mut checker = Checker::new(checkpoint, declared);
+        let mut checker = Checker::new(checkpoint, ALL_STUDENT_MODULES, declared);
         checker.visit_block(&block);
         (numbers, text) = (checker.numbers.max(numbers), checker.text.max(text));
     }
@@ -261,11 +271,11 @@ fn grader_rejects_a_region_that_embeds_a_table_of_data() {
 #[test]
 fn grader_checks_any_shape_of_region_without_crashing() {
     let deep = format!("{}1{}", "(".repeat(3000), ")".repeat(3000));
-    assert!(check_region(&deep, 6).unwrap_err().reason.contains("nested 3000 deep"));
+    assert!(check(&deep, 6).unwrap_err().reason.contains("nested 3000 deep"));
     let long = "let a = 1;\n".repeat(2000);
-    assert!(check_region(&long, 6).unwrap_err().reason.contains("longer than 8 KiB"));
-    assert!(check_region("let a = (1;", 6).unwrap_err().reason.contains("do not match"));
-    assert!(check_region("let s = \"open;", 6).unwrap_err().reason.contains("never ends"));
+    assert!(check(&long, 6).unwrap_err().reason.contains("longer than 8 KiB"));
+    assert!(check("let a = (1;", 6).unwrap_err().reason.contains("do not match"));
+    assert!(check("let s = \"open;", 6).unwrap_err().reason.contains("never ends"));
     // Chains that syn parses by recursion, as long as the size limit allows.
     let fill = |unit: &str, end: &str| unit.repeat((MAX_REGION_BYTES - end.len()) / unit.len()) + end;
     for body in [
@@ -283,7 +293,7 @@ fn grader_checks_any_shape_of_region_without_crashing() {
         fill("..", "1"),
         fill("'a: loop { break 'a ", "}"),
     ] {
-        let _ = check_region(&body, 6);
+        let _ = check(&body, 6);
     }
     let (mut size, mut depth) = (0, 0);
     for (_, body) in solution_regions() {
@@ -304,7 +314,7 @@ fn grader_is_not_tripped_by_comments_strings_or_printing() {
         "let v: Vec<f32> = vec![0.0; 3];\nlet m = std::collections::HashMap::<u32, f32>::new();\nv.len()",
         "let (a, b) = (1.0f32, 2.0f32);\nlet c = a.min(b).max(f32::EPSILON) * std::f32::consts::PI;\nc",
     ] {
-        check_region(body, 4).unwrap_or_else(|e| panic!("{body}: {e:?}"));
+        check(body, 4).unwrap_or_else(|e| panic!("{body}: {e:?}"));
     }
 }
 
@@ -321,7 +331,7 @@ fn grader_knows_every_crate_the_renderer_depends_on() {
 
 #[test]
 fn grader_lets_a_local_variable_share_a_harness_name() {
-    check_region("let load = 0.5f32;\nlet render = load * 2.0;\nrender", 2).unwrap();
+    check("let load = 0.5f32;\nlet render = load * 2.0;\nrender", 2).unwrap();
 }
 
 /// Each checkpoint names the modules its handout works with: the triangle test reaches no
@@ -329,17 +339,17 @@ fn grader_lets_a_local_variable_share_a_harness_name() {
 #[test]
 fn grader_allows_each_region_the_student_api_of_its_checkpoint() {
     let light = "let i = crate::light::PointLight::intensity;";
-    assert!(check_region(light, 6).is_ok());
-    let reason = check_region(light, 2).unwrap_err().reason;
+    assert!(check(light, 6).is_ok());
+    let reason = check(light, 2).unwrap_err().reason;
     assert!(reason.contains("checkpoint 2 works with crate::{math, geometry}"), "{reason}");
-    assert!(check_region("let b = crate::geometry::Aabb::new;", 7).is_err());
-    assert!(check_region("let s = crate::sampling::estimate_pixel;", 7).is_ok());
-    assert!(check_region(light, 8).is_ok());
+    assert!(check("let b = crate::geometry::Aabb::new;", 7).is_err());
+    assert!(check("let s = crate::sampling::estimate_pixel;", 7).is_ok());
+    assert!(check(light, 8).is_ok());
 }
 
 #[test]
 fn grader_reports_the_line_of_the_rejected_code() {
-    let line = |body: &str| check_region(body, 6).unwrap_err().line;
+    let line = |body: &str| check(body, 6).unwrap_err().line;
     assert_eq!(line("let a = 1;\n\nlet b = std::fs::read(\"x\");"), 3);
     assert_eq!(line("let a = 1;\nlet b = r#std::fs::read(\"x\");"), 2);
     assert_eq!(line("let a = 1;\n#[no_mangle]\nfn f() {}"), 2);
