@@ -10,8 +10,9 @@ use super::{Metric, Rubric};
 /// One rule of the rubric broken: what, and where (the checkpoint or scene).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum RuleBroken {
-    /// Checkpoint ids must be 1, 2, 3, ... in order.
-    #[error("checkpoint ids must be 1, 2, 3, ... in order, got {0:?}")]
+    /// Checkpoint ids are positive and increase down the rubric; a course may skip one (a
+    /// checkpoint it gives as code).
+    #[error("checkpoint ids must be positive and increasing, got {0:?}")]
     CheckpointIds(Vec<u32>),
     /// A checkpoint's handout must exist.
     #[error("checkpoint {checkpoint}: handout {} does not exist", .handout.display())]
@@ -147,7 +148,7 @@ fn public_modules(lib: &str) -> BTreeSet<&str> {
 /// The first rule `rubric` breaks in the tree at `root`, checkpoints first, then scene by scene.
 pub(super) fn check(rubric: &Rubric, root: &Path) -> Result<(), RuleBroken> {
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
-    if ids != (1..=ids.len() as u32).collect::<Vec<_>>() {
+    if ids.first() == Some(&0) || ids.windows(2).any(|w| w[0] >= w[1]) {
         return Err(RuleBroken::CheckpointIds(ids));
     }
     let lib = std::fs::read_to_string(root.join("src/lib.rs")).unwrap_or_default();
@@ -336,5 +337,17 @@ mod tests {
         // The last two cases break the same rule (image points without scenes), public and hidden.
         assert_eq!(distinct, cases_run - 1, "each other case is its own rule");
         assert_eq!(broken(|_| {}), None, "the instructor's rubric itself breaks no rule");
+    }
+
+    /// A course may skip a checkpoint (ids 1 to 6, then 8): ids only have to be positive and to
+    /// increase.
+    #[test]
+    fn checkpoint_ids_may_skip_one_but_never_repeat_go_back_or_start_at_zero() {
+        let ids_broken =
+            |change: fn(&mut Rubric)| matches!(broken(change), Some(RuleBroken::CheckpointIds(_)));
+        assert!(!ids_broken(|r| r.checkpoints.iter_mut().skip(6).for_each(|c| c.id += 1)));
+        assert!(ids_broken(|r| r.checkpoints[0].id = 0));
+        assert!(ids_broken(|r| r.checkpoints[2].id = 2));
+        assert!(ids_broken(|r| r.checkpoints.swap(3, 4)));
     }
 }
