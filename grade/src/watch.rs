@@ -81,61 +81,39 @@ pub enum Stage {
     Full,
 }
 
-/// Watches from checkpoint `first` to `last`: grades the current one with `check` (its tests,
+/// Watches the checkpoints `ids` in order: grades the current one with `check` (its tests,
 /// then, when they pass, its scenes too), prints one
 /// line when it passes and moves on, or prints what to look at first and waits for a save.
 /// After every save, the checkpoints that passed are graded again with the current one, and one
 /// that fails now is named as a regression and becomes the current one. With `stamped` (output
-/// that is not a terminal) each round starts with the time. Returns when every checkpoint up to
-/// `last` passes or `changes` stops.
+/// that is not a terminal) each round starts with the time. Returns when every checkpoint of `ids`
+/// passes or `changes` stops.
 pub fn watch(
     changes: &mut impl Changes,
     mut check: impl FnMut(&[u32], Stage) -> Result<Vec<CheckpointResult>, String>,
-    (first, last): (u32, u32),
+    ids: &[u32],
     stamped: bool,
     out: &mut impl Write,
 ) -> std::io::Result<()> {
     let mut passed: BTreeSet<u32> = BTreeSet::new();
-    let mut current = first;
+    let mut at = 0;
     let mut saved = false;
-    let tests_pass = |r: &CheckpointResult| (r.test_score - r.checkpoint.all_test_points()).abs() < 1e-9;
     let full = |r: &CheckpointResult| (r.score() - r.max_score(true)).abs() < 1e-9;
-    while current <= last {
+    while let Some(&current) = ids.get(at) {
         let again: Vec<u32> = if saved { passed.iter().copied().collect() } else { Vec::new() };
         let also = if again.is_empty() { String::new() } else { format!(" (and again {})", list(&again)) };
         let time = if stamped { stamp() } else { String::new() };
         writeln!(out, "{time}checking checkpoint {current}{also}...")?;
         out.flush()?;
         saved = false;
-        // The current checkpoint's tests first, answered as soon as they ran; then the tests of
-        // those that passed before; the scenes only once every test passes.
-        let mut answered = false;
-        let results = match check(&[current], Stage::Tests) {
-            Ok(own) if own.iter().all(tests_pass) => {
-                check(&again.iter().copied().chain([current]).collect::<Vec<_>>(), Stage::Full)
-            }
-            Ok(own) => {
-                for r in &own {
-                    answer(out, r)?;
-                    answered = true;
-                }
-                out.flush()?;
-                let earlier = if again.is_empty() { Ok(Vec::new()) } else { check(&again, Stage::Tests) };
-                earlier.map(|earlier| earlier.into_iter().chain(own).collect())
-            }
-            Err(e) => Err(e),
-        };
-        let results = results.unwrap_or_else(|e| {
-            let _ = writeln!(out, "checkpoint {current}: cannot grade: {e}");
-            Vec::new()
-        });
+        let (results, answered) = round(&mut check, current, &again, out)?;
         let regressions: Vec<&CheckpointResult> =
             results.iter().filter(|r| passed.contains(&r.checkpoint.id) && !full(r)).collect();
         for r in &regressions {
             let id = r.checkpoint.id;
             writeln!(out, "checkpoint {id} passed before and fails now: {}", first_problem(r))?;
             passed.remove(&id);
-            current = current.min(id);
+            at = at.min(ids.iter().position(|&i| i == id).unwrap_or(at));
         }
         match results.iter().find(|r| r.checkpoint.id == current) {
             Some(result) if regressions.is_empty() && full(result) => {
@@ -146,7 +124,7 @@ pub fn watch(
                     result.max_score(true)
                 )?;
                 passed.insert(current);
-                current += 1;
+                at += 1;
                 continue;
             }
             Some(result) if regressions.is_empty() && !answered => answer(out, result)?,
@@ -159,7 +137,43 @@ pub fn watch(
         }
         saved = true;
     }
-    writeln!(out, "every checkpoint up to {last} passes")
+    match ids.last() {
+        Some(last) => writeln!(out, "every checkpoint up to {last} passes"),
+        None => writeln!(out, "no checkpoint to watch"),
+    }
+}
+
+/// One round of checks: the `current` checkpoint's tests first, answered as soon as they ran;
+/// then the tests of those that passed before (`again`); the scenes only once every test passes.
+/// The results, and whether the current checkpoint was answered already.
+fn round(
+    check: &mut impl FnMut(&[u32], Stage) -> Result<Vec<CheckpointResult>, String>,
+    current: u32,
+    again: &[u32],
+    out: &mut impl Write,
+) -> std::io::Result<(Vec<CheckpointResult>, bool)> {
+    let tests_pass = |r: &CheckpointResult| (r.test_score - r.checkpoint.all_test_points()).abs() < 1e-9;
+    let mut answered = false;
+    let results = match check(&[current], Stage::Tests) {
+        Ok(own) if own.iter().all(tests_pass) => {
+            check(&again.iter().copied().chain([current]).collect::<Vec<_>>(), Stage::Full)
+        }
+        Ok(own) => {
+            for r in &own {
+                answer(out, r)?;
+                answered = true;
+            }
+            out.flush()?;
+            let earlier = if again.is_empty() { Ok(Vec::new()) } else { check(again, Stage::Tests) };
+            earlier.map(|earlier| earlier.into_iter().chain(own).collect())
+        }
+        Err(e) => Err(e),
+    };
+    let results = results.unwrap_or_else(|e| {
+        let _ = writeln!(out, "checkpoint {current}: cannot grade: {e}");
+        Vec::new()
+    });
+    Ok((results, answered))
 }
 
 /// A checkpoint that lost points: its points, what to look at first, and what to read.
@@ -243,7 +257,7 @@ mod tests {
                 .collect())
         };
         let mut out = Vec::new();
-        watch(&mut Saves(10), check, (2, 3), false, &mut out).unwrap();
+        watch(&mut Saves(10), check, &[2, 3], false, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert_eq!(text.matches("waiting for a save").count(), 2, "{text}");
         assert!(text.contains("first failing test: the_back_face_is_hit_too: no hit"), "{text}");
@@ -272,7 +286,7 @@ mod tests {
                 .collect())
         };
         let mut out = Vec::new();
-        watch(&mut Saves(3), check, (2, 3), true, &mut out).unwrap();
+        watch(&mut Saves(3), check, &[2, 3], true, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         // Each round: the current checkpoint's tests first (the answer), then those that passed.
         assert_eq!(graded, [vec![2], vec![3], vec![3], vec![2], vec![2], vec![3]], "{text}");
@@ -292,7 +306,7 @@ mod tests {
         watch(
             &mut Saves(1),
             |ids: &[u32], _| Ok(ids.iter().map(|&id| result(id, 0, 10)).collect()),
-            (2, 7),
+            &[2, 3, 4, 5, 6, 7],
             false,
             &mut out,
         )
@@ -300,6 +314,25 @@ mod tests {
         let text = String::from_utf8(out).unwrap();
         assert_eq!(text.matches("checkpoint 2: ").count(), 1, "{text}");
         assert!(!text.contains("every checkpoint"), "{text}");
+    }
+
+    /// A course that skips a checkpoint watches the ones it has, in order.
+    #[test]
+    fn grader_watch_goes_from_one_checkpoint_of_the_rubric_to_the_next() {
+        let mut out = Vec::new();
+        let check = |ids: &[u32], _| Ok(ids.iter().map(|&id| result(id, 10, 0)).collect());
+        watch(&mut Saves(1), check, &[5, 8], false, &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let passes: Vec<&str> = text.lines().filter(|l| l.contains(" passes")).collect();
+        assert_eq!(
+            passes,
+            [
+                "checkpoint 5 passes: 20.0/20",
+                "checkpoint 8 passes: 20.0/20",
+                "every checkpoint up to 8 passes"
+            ],
+            "{text}"
+        );
     }
 
     #[test]

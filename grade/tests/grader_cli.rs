@@ -24,8 +24,11 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// A copy of what grading reads: rubric and handouts, scenes, references.
+/// A copy of what grading reads: rubric and handouts, scenes, references, and the crate root
+/// whose public modules the rubric's `student_api` names.
 fn copy_grading_inputs(to: &Path) {
+    std::fs::create_dir_all(to.join("src")).unwrap();
+    std::fs::copy(root().join("src/lib.rs"), to.join("src/lib.rs")).unwrap();
     for dir in ["checkpoints", "scenes", "scenes/meshes", "reference"] {
         std::fs::create_dir_all(to.join(dir)).unwrap();
         for entry in std::fs::read_dir(root().join(dir)).unwrap() {

@@ -22,7 +22,7 @@ use crate::images::{film_to_image, read_png};
 use crate::metrics::{Comparison, Measured};
 use crate::noisy::{compare, graded_seed, tile_means, NoisyReference};
 use crate::outcome::{Blame, GradeReport, Needed, Phases, SceneResult, SceneStatus};
-use crate::reference::{checked_manifest, load_reference, load_tile_reference};
+use crate::reference::{checked_manifest, load_reference, load_tile_reference, Manifest};
 use crate::regions::stub::stubbed_checkpoints;
 use crate::rubric::{Check, Checkpoint, GradedScene, Rubric, TileTest};
 use crate::run::cargo::{build_renderer, BUILD_TIME_LIMIT};
@@ -98,20 +98,34 @@ pub fn checked_rubric(root: &Path) -> Result<Rubric, String> {
     Ok(rubric)
 }
 
-/// Grades the tree at `options.root`; `Err` only for bad input (a broken rubric, a missing or
-/// stale reference), never for anything the graded code does.
-pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeReport, String> {
-    if std::env::var_os(CHILD_ENV).is_some() {
-        return Err(format!("refusing to grade inside a grader child ({CHILD_ENV} is set)"));
+/// What a grade covers, decided before anything is built or run.
+struct Plan {
+    rubric: Rubric,
+    /// The checkpoints graded.
+    checkpoints: Vec<Checkpoint>,
+    /// The scenes rendered.
+    scenes: Vec<GradedScene>,
+    manifest: Manifest,
+    /// The checkpoints still the starter's stubs.
+    stubbed: Vec<u32>,
+    /// The checkpoints whose tests run: the graded ones, and every written one a scene runs (a
+    /// stub's tests all fail: nothing to learn from running them).
+    tested: Vec<Checkpoint>,
+}
+
+impl Plan {
+    /// Whether a scene of the plan runs checkpoint `id`'s code.
+    fn runs(&self, id: u32) -> bool {
+        self.scenes.iter().any(|s| s.depends_on.contains(&id))
     }
-    let start = Instant::now();
+}
+
+/// The plan of a grade: the rubric, the selection of `options`, the references checked.
+fn plan(options: &GradeOptions) -> Result<Plan, String> {
     let root = &options.root;
     let rubric = Rubric::of_tree(root)?;
-    let mut checkpoints: Vec<&Checkpoint> = rubric
-        .checkpoints
-        .iter()
-        .filter(|c| options.checkpoints.as_ref().is_none_or(|ids| ids.contains(&c.id)))
-        .collect();
+    let selected = |c: &&Checkpoint| options.checkpoints.as_ref().is_none_or(|ids| ids.contains(&c.id));
+    let mut checkpoints: Vec<&Checkpoint> = rubric.checkpoints.iter().filter(selected).collect();
     let scenes = selected_scenes(&rubric, options, &checkpoints)?;
     // Scenes named alone grade the checkpoints they grade, not every checkpoint with no scene.
     if options.scenes.is_some() && options.checkpoints.is_none() {
@@ -120,68 +134,88 @@ pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeRepo
     let manifest = checked_manifest(root, &rubric, &scenes)?;
     let code = options.code.as_deref().unwrap_or(root);
     let stubbed = not_started(options, code, &rubric, &checkpoints)?;
-    // The selected checkpoints' tests, and those of every checkpoint a selected scene runs that
-    // is written (a stub's tests all fail: nothing to learn from running them).
-    let runs: Vec<u32> = scenes.iter().flat_map(|s| s.depends_on.iter().copied()).collect();
-    let needed = |c: &&Checkpoint| runs.contains(&c.id);
-    let tested: Vec<&Checkpoint> = rubric
-        .checkpoints
-        .iter()
-        .filter(|c| checkpoints.contains(c) || (needed(c) && !stubbed.contains(&c.id)))
+    let runs = |id: u32| scenes.iter().any(|s| s.depends_on.contains(&id));
+    let tested = (rubric.checkpoints.iter())
+        .filter(|c| checkpoints.contains(c) || (runs(c.id) && !stubbed.contains(&c.id)))
+        .cloned()
         .collect();
+    let checkpoints = checkpoints.into_iter().cloned().collect();
+    Ok(Plan { rubric, checkpoints, scenes, manifest, stubbed, tested })
+}
 
-    let test_steps = if options.run_tests { tested.len() + 1 } else { 0 };
-    // Each grade counts its own steps from 0, also when a caller grades several times with one bar.
-    progress.set_position(0);
-    progress.set_length((test_steps + 1 + scenes.len()) as u64);
-    let target = options.target.as_deref();
-    let mut phases = Phases::default();
-    let tests =
-        options.run_tests.then(|| run_unit_tests(code, target, &options.env, &tested, progress, &mut phases));
-    let renderer = if scenes.is_empty() {
+/// Builds the tree's renderer and renders and scores every scene of `plan` with it.
+fn render_scenes(
+    options: &GradeOptions,
+    plan: &Plan,
+    progress: &ProgressBar,
+    phases: &mut Phases,
+) -> Result<Vec<SceneResult>, String> {
+    let code = options.code.as_deref().unwrap_or(&options.root);
+    let renderer = if plan.scenes.is_empty() {
         Err("no scene to render".to_string()) // tests only: nothing to build
     } else {
         progress.set_message("building the renderer");
         let built = Instant::now();
-        let renderer = build_renderer(code, target).map_err(|e| format!("the renderer does not build: {e}"));
+        let renderer = build_renderer(code, options.target.as_deref())
+            .map_err(|e| format!("the renderer does not build: {e}"));
         phases.build += built.elapsed().as_secs_f64();
         renderer
     };
     progress.inc(1);
     let rendering = Instant::now();
-    let mut scene_results = Vec::new();
-    for scene in scenes {
+    let mut results = Vec::new();
+    for scene in &plan.scenes {
         progress.set_message(format!("rendering {}", scene.name));
-        let entry = manifest.fresh_entry(root, &scene)?;
+        let entry = plan.manifest.fresh_entry(&options.root, scene)?;
         let limit =
             TIME_LIMIT_FLOOR.max(Duration::from_secs_f64(TIME_LIMIT_FACTOR * entry.graded_render_seconds));
-        let (scene, stand_ins) = staged(scene, &stubbed);
+        let (scene, stand_ins) = staged(scene.clone(), &plan.stubbed);
         let render = Render { limit, stand_ins: &stand_ins };
-        scene_results.push(grade_scene(options, renderer.as_deref(), scene, render, progress)?);
+        results.push(grade_scene(options, renderer.as_deref(), scene, render, progress)?);
         progress.inc(1);
     }
     phases.renders = rendering.elapsed().as_secs_f64();
-    let context = Context { tests: tests.as_ref(), stubbed: &stubbed, blame: options.blame };
-    let graded: Vec<u32> = checkpoints.iter().map(|c| c.id).collect();
-    let fingerprints = Fingerprints::load(root, &manifest)?;
-    for s in &mut scene_results {
+    Ok(results)
+}
+
+/// Grades the tree at `options.root`; `Err` only for bad input (a broken rubric, a missing or
+/// stale reference), never for anything the graded code does.
+pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeReport, String> {
+    if std::env::var_os(CHILD_ENV).is_some() {
+        return Err(format!("refusing to grade inside a grader child ({CHILD_ENV} is set)"));
+    }
+    let start = Instant::now();
+    let plan = plan(options)?;
+    let code = options.code.as_deref().unwrap_or(&options.root);
+    let test_steps = if options.run_tests { plan.tested.len() + 1 } else { 0 };
+    // Each grade counts its own steps from 0, also when a caller grades several times with one bar.
+    progress.set_position(0);
+    progress.set_length((test_steps + 1 + plan.scenes.len()) as u64);
+    let mut phases = Phases::default();
+    let tested: Vec<&Checkpoint> = plan.tested.iter().collect();
+    let target = options.target.as_deref();
+    let tests =
+        options.run_tests.then(|| run_unit_tests(code, target, &options.env, &tested, progress, &mut phases));
+    let mut scenes = render_scenes(options, &plan, progress, &mut phases)?;
+    let context = Context { tests: tests.as_ref(), stubbed: &plan.stubbed, blame: options.blame };
+    let graded: Vec<u32> = plan.checkpoints.iter().map(|c| c.id).collect();
+    let fingerprints = Fingerprints::load(&options.root, &plan.manifest)?;
+    for s in &mut scenes {
         explain_stub_stop(s, &context);
         s.status = scene_status(s, &graded, &context);
         s.named = name_mistake(s, &fingerprints, &graded, &context);
     }
-    let needed = rubric
-        .checkpoints
-        .iter()
-        .filter(|c| !checkpoints.contains(c) && needed(c))
+    let needed = (plan.rubric.checkpoints.iter())
+        .filter(|c| !plan.checkpoints.contains(c) && plan.runs(c.id))
         .map(|c| Needed {
             checkpoint: c.clone(),
             tests: tests.as_ref().and_then(|t| t.public.get(&c.id).cloned()),
-            not_started: stubbed.contains(&c.id),
+            not_started: plan.stubbed.contains(&c.id),
         })
         .collect();
     Ok(GradeReport {
-        checkpoints: checkpoints.iter().map(|c| score_checkpoint(c, &scene_results, &context)).collect(),
-        scenes: scene_results,
+        checkpoints: plan.checkpoints.iter().map(|c| score_checkpoint(c, &scenes, &context)).collect(),
+        scenes,
         tests_ran: options.run_tests,
         needed,
         seconds: start.elapsed().as_secs_f64(),

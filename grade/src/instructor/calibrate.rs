@@ -23,7 +23,7 @@ use serde_json::Value;
 
 use crate::grading::{grade, GradeOptions};
 use crate::outcome::GradeReport;
-use crate::rubric::{GradedScene, Rubric, Threshold};
+use crate::rubric::{Check, GradedScene, Rubric, Threshold};
 use raylab_base::stats::{binomial_at_least, clopper_pearson};
 
 /// A count of false fails whose binomial tail under `alpha` is below this is too many.
@@ -252,63 +252,72 @@ fn run_label(run: &Run) -> String {
 pub fn markdown(runs: &[Run], rubric: &Rubric) -> String {
     let mut out = String::new();
     for scene in &rubric.scenes {
-        let checks = scene.graded_checks();
-        let labels: Vec<String> = checks.iter().map(|c| c.label()).collect();
-        let _ =
-            writeln!(out, "### {} (grades checkpoints {:?}, {} spp)\n", scene.name, scene.grades, scene.spp);
-        let _ = writeln!(out, "| variant | kind | {} |", labels.join(" | "));
-        let _ = writeln!(out, "|---|---|{}", "---|".repeat(labels.len()));
-        let mut extremes: BTreeMap<(usize, bool), Vec<f64>> = BTreeMap::new();
-        for run in runs {
-            let Ok(values) = &run.values else { continue };
-            let v = &values[&scene.name];
-            if v.is_null() {
-                continue;
-            }
-            let must_fail = !run.variant.correct && run.variant.fails.contains(&scene.name);
-            let kind = if run.variant.correct {
-                "correct"
-            } else if must_fail {
-                "must fail"
-            } else {
-                "(other scene)"
-            };
-            let cells: Vec<String> = labels
-                .iter()
-                .enumerate()
-                .map(|(i, l)| {
-                    let value = v["checks"][l]["value"].as_f64();
-                    if let (Some(x), true) = (value, run.variant.correct || must_fail) {
-                        extremes.entry((i, run.variant.correct)).or_default().push(x);
-                    }
-                    let mark = if v["checks"][l]["passed"] == Value::Bool(true) { "" } else { " ✗" };
-                    value.map_or_else(
-                        || v["error"].as_str().unwrap_or("-").to_string(),
-                        |x| format!("{x:.4}{mark}"),
-                    )
-                })
-                .collect();
-            let _ = writeln!(out, "| {} | {kind} | {} |", run_label(run), cells.join(" | "));
-        }
-        let summary = |correct: bool| -> Vec<String> {
-            checks
-                .iter()
-                .enumerate()
-                .map(|(i, c)| {
-                    let xs = extremes.get(&(i, correct)).cloned().unwrap_or_default();
-                    let lower_is_better = matches!(c.threshold, Threshold::AtMost(_));
-                    // For a similarity the worst correct is the lowest and the best wrong the highest.
-                    let pick = |xs: &[f64], low: bool| {
-                        xs.iter().copied().reduce(if low { f64::min } else { f64::max })
-                    };
-                    pick(&xs, correct != lower_is_better).map_or("-".into(), |x| format!("{x:.4}"))
-                })
-                .collect()
-        };
-        let _ = writeln!(out, "| **worst correct** | | {} |", summary(true).join(" | "));
-        let _ = writeln!(out, "| **best wrong** | | {} |", summary(false).join(" | "));
-        let thresholds: Vec<String> = checks.iter().map(|c| c.threshold_text()).collect();
-        let _ = writeln!(out, "| **threshold** | | {} |\n", thresholds.join(" | "));
+        scene_table(&mut out, runs, scene);
     }
     out
+}
+
+/// One scene's table: every run's check values, then the worst correct, the best wrong and the
+/// thresholds.
+fn scene_table(out: &mut String, runs: &[Run], scene: &GradedScene) {
+    let checks = scene.graded_checks();
+    let labels: Vec<String> = checks.iter().map(|c| c.label()).collect();
+    let _ = writeln!(out, "### {} (grades checkpoints {:?}, {} spp)\n", scene.name, scene.grades, scene.spp);
+    let _ = writeln!(out, "| variant | kind | {} |", labels.join(" | "));
+    let _ = writeln!(out, "|---|---|{}", "---|".repeat(labels.len()));
+    let mut extremes: BTreeMap<(usize, bool), Vec<f64>> = BTreeMap::new();
+    for run in runs {
+        let Ok(values) = &run.values else { continue };
+        let v = &values[&scene.name];
+        if v.is_null() {
+            continue;
+        }
+        let must_fail = !run.variant.correct && run.variant.fails.contains(&scene.name);
+        let kind = match (run.variant.correct, must_fail) {
+            (true, _) => "correct",
+            (false, true) => "must fail",
+            (false, false) => "(other scene)",
+        };
+        let cells: Vec<String> = labels
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let value = v["checks"][l]["value"].as_f64();
+                if let (Some(x), true) = (value, run.variant.correct || must_fail) {
+                    extremes.entry((i, run.variant.correct)).or_default().push(x);
+                }
+                let mark = if v["checks"][l]["passed"] == Value::Bool(true) { "" } else { " ✗" };
+                value.map_or_else(
+                    || v["error"].as_str().unwrap_or("-").to_string(),
+                    |x| format!("{x:.4}{mark}"),
+                )
+            })
+            .collect();
+        let _ = writeln!(out, "| {} | {kind} | {} |", run_label(run), cells.join(" | "));
+    }
+    let _ =
+        writeln!(out, "| **worst correct** | | {} |", extreme_cells(&checks, &extremes, true).join(" | "));
+    let _ = writeln!(out, "| **best wrong** | | {} |", extreme_cells(&checks, &extremes, false).join(" | "));
+    let thresholds: Vec<String> = checks.iter().map(|c| c.threshold_text()).collect();
+    let _ = writeln!(out, "| **threshold** | | {} |\n", thresholds.join(" | "));
+}
+
+/// Per check, the worst value of a correct run (`correct`) or the best of a wrong one: for a
+/// similarity the worst correct is the lowest and the best wrong the highest.
+fn extreme_cells(
+    checks: &[Check],
+    extremes: &BTreeMap<(usize, bool), Vec<f64>>,
+    correct: bool,
+) -> Vec<String> {
+    checks
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let xs = extremes.get(&(i, correct)).cloned().unwrap_or_default();
+            let lower_is_better = matches!(c.threshold, Threshold::AtMost(_));
+            let low = correct != lower_is_better;
+            let pick = xs.iter().copied().reduce(if low { f64::min } else { f64::max });
+            pick.map_or("-".into(), |x| format!("{x:.4}"))
+        })
+        .collect()
 }

@@ -72,50 +72,12 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         SceneStatus::NotCounted(_) => ("wait", "not counted"),
     };
     let grades: Vec<String> = s.scene.grades.iter().map(u32::to_string).collect();
-    let rendered =
-        if s.render.is_some() { format!("; rendered in {:.1} s", s.seconds) } else { String::new() };
-    let rendered = match s.stand_ins.as_slice() {
-        [] => rendered,
-        ids => format!(
-            "{rendered}; {} not written yet, so drawn by {} stand-in (the same picture, no points for {})",
-            checkpoints_text(ids),
-            if ids.len() > 1 { "their" } else { "its" },
-            if ids.len() > 1 { "them" } else { "it" }
-        ),
-    };
-    let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}{rendered}</p>",
-        escape(&s.scene.name), grades.join(", "));
+    let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}{2}</p>",
+        escape(&s.scene.name), grades.join(", "), how_rendered(s));
     if s.scene.hidden {
         h.push_str("<p>A hidden scene: its checks are shown, never its images.</p>\n");
     } else {
-        h.push_str("<div class=\"images\">");
-        figure(h, "reference", Some(&s.reference));
-        let mean =
-            s.scene.tile_test.as_ref().map(|t| format!("yours: the mean of your {} renders", t.renders));
-        let yours = match (&s.render, &s.status) {
-            (None, SceneStatus::NotCounted(_)) => "yours: no image yet",
-            (None, _) => "yours: the render failed (below)",
-            (Some(_), _) => mean.as_deref().unwrap_or("yours"),
-        };
-        figure(h, yours, s.render.as_ref());
-        match (&s.tiles, &s.scene.tile_test, &s.ssim) {
-            (Some(verdict), Some(test), _) => {
-                figure(h, LEGEND, Some(&tile_map(verdict, test.tile, &s.reference)))
-            }
-            (None, None, Some(ssim)) => figure(
-                h,
-                "difference (1 − SSIM: black same, yellow very different)",
-                Some(&heatmap(ssim, &s.reference)),
-            ),
-            _ => {}
-        }
-        if let Some(n) = &s.named {
-            // The mistake's fingerprint, enlarged to the render's size, pixels kept square.
-            let (w, h_) = s.reference.dimensions();
-            let enlarged = image::imageops::resize(&n.thumbnail, w, h_, image::imageops::FilterType::Nearest);
-            figure(h, &format!("looks like this known mistake: {}", n.entry.description), Some(&enlarged));
-        }
-        h.push_str("</div>\n");
+        pictures(h, s);
     }
     match (&s.status, &s.error) {
         (SceneStatus::NotCounted(kept), _) => {
@@ -145,6 +107,53 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         }
     }
     h.push_str("</section>\n");
+}
+
+/// "; rendered in 0.4 s", and the stand-ins that drew the scene, if any.
+fn how_rendered(s: &SceneResult) -> String {
+    let rendered =
+        if s.render.is_some() { format!("; rendered in {:.1} s", s.seconds) } else { String::new() };
+    match s.stand_ins.as_slice() {
+        [] => rendered,
+        ids => format!(
+            "{rendered}; {} not written yet, so drawn by {} stand-in (the same picture, no points for {})",
+            checkpoints_text(ids),
+            if ids.len() > 1 { "their" } else { "its" },
+            if ids.len() > 1 { "them" } else { "it" }
+        ),
+    }
+}
+
+/// A public scene's pictures side by side: the reference, the render, where they differ (a heat
+/// map, or a noisy scene's tile map) and the known mistake it looks like, if one is named.
+fn pictures(h: &mut String, s: &SceneResult) {
+    h.push_str("<div class=\"images\">");
+    figure(h, "reference", Some(&s.reference));
+    let mean = s.scene.tile_test.as_ref().map(|t| format!("yours: the mean of your {} renders", t.renders));
+    let yours = match (&s.render, &s.status) {
+        (None, SceneStatus::NotCounted(_)) => "yours: no image yet",
+        (None, _) => "yours: the render failed (below)",
+        (Some(_), _) => mean.as_deref().unwrap_or("yours"),
+    };
+    figure(h, yours, s.render.as_ref());
+    match (&s.tiles, &s.scene.tile_test, &s.ssim) {
+        (Some(verdict), Some(test), _) => {
+            figure(h, LEGEND, Some(&tile_map(verdict, test.tile, &s.reference)))
+        }
+        (None, None, Some(ssim)) => figure(
+            h,
+            "difference (1 − SSIM: black same, yellow very different)",
+            Some(&heatmap(ssim, &s.reference)),
+        ),
+        _ => {}
+    }
+    if let Some(n) = &s.named {
+        // The mistake's fingerprint, enlarged to the render's size, pixels kept square.
+        let (w, h_) = s.reference.dimensions();
+        let enlarged = image::imageops::resize(&n.thumbnail, w, h_, image::imageops::FilterType::Nearest);
+        figure(h, &format!("looks like this known mistake: {}", n.entry.description), Some(&enlarged));
+    }
+    h.push_str("</div>\n");
 }
 
 /// A scene's checks, each with its value and threshold; a failed check says `word` in `class`

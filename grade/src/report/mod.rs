@@ -13,7 +13,7 @@ use std::path::Path;
 use serde_json::json;
 
 use crate::images::write_png;
-use crate::outcome::{GradeReport, SceneStatus};
+use crate::outcome::{GradeReport, SceneResult, SceneStatus};
 use crate::report::heatmap::heatmap;
 use crate::report::reasons::{advice_line, kept_text, reason_lines};
 use crate::report::tile_map::tile_map;
@@ -28,34 +28,7 @@ pub fn text(report: &GradeReport) -> String {
         "scene", "grades", "check", "value", "threshold", "result", "time"
     );
     for s in &report.scenes {
-        let grades = s.scene.grades.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
-        let time = format!("{:.1}s", s.seconds);
-        let word = s.status.word();
-        if let Some(e) = &s.error {
-            let _ = writeln!(
-                out,
-                "{:<18} {:<8} {:<22} {:>8} {:>10}  {:<6} {:>6}",
-                s.scene.name, grades, "render", "-", "-", word, time
-            );
-            if s.status == SceneStatus::Failed {
-                let _ = writeln!(out, "{:<18} {e}", "");
-            }
-        }
-        for (i, (check, m)) in s.checks.iter().enumerate() {
-            let (name, grades, time) =
-                if i == 0 { (s.scene.name.as_str(), grades.as_str(), time.as_str()) } else { ("", "", "") };
-            let result = if m.passed { "pass" } else { word };
-            let _ = writeln!(
-                out,
-                "{name:<18} {grades:<8} {:<22} {:>8.4} {:>10}  {result:<6} {time:>6}",
-                check.label(),
-                m.value,
-                check.threshold_text()
-            );
-        }
-        if let SceneStatus::NotCounted(kept) = &s.status {
-            let _ = writeln!(out, "{:<18} {}", "", kept_text(kept));
-        }
+        scene_rows(&mut out, s);
     }
     let _ = writeln!(out);
     let width = report.checkpoints.iter().map(|c| c.tests_cell().len()).max().unwrap_or(0).max(9);
@@ -87,6 +60,39 @@ pub fn text(report: &GradeReport) -> String {
         if report.tests_ran { "" } else { " (images only: unit tests not run)" }
     );
     out
+}
+
+/// A scene's rows of the table: a failed render, or one row per check; and why a failed scene
+/// is not counted.
+fn scene_rows(out: &mut String, s: &SceneResult) {
+    let grades = s.scene.grades.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
+    let time = format!("{:.1}s", s.seconds);
+    let word = s.status.word();
+    if let Some(e) = &s.error {
+        let _ = writeln!(
+            out,
+            "{:<18} {:<8} {:<22} {:>8} {:>10}  {:<6} {:>6}",
+            s.scene.name, grades, "render", "-", "-", word, time
+        );
+        if s.status == SceneStatus::Failed {
+            let _ = writeln!(out, "{:<18} {e}", "");
+        }
+    }
+    for (i, (check, m)) in s.checks.iter().enumerate() {
+        let (name, grades, time) =
+            if i == 0 { (s.scene.name.as_str(), grades.as_str(), time.as_str()) } else { ("", "", "") };
+        let result = if m.passed { "pass" } else { word };
+        let _ = writeln!(
+            out,
+            "{name:<18} {grades:<8} {:<22} {:>8.4} {:>10}  {result:<6} {time:>6}",
+            check.label(),
+            m.value,
+            check.threshold_text()
+        );
+    }
+    if let SceneStatus::NotCounted(kept) = &s.status {
+        let _ = writeln!(out, "{:<18} {}", "", kept_text(kept));
+    }
 }
 
 /// The checkpoints not graded whose code the scenes run, and what their tests say: they change

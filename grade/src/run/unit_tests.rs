@@ -14,7 +14,7 @@ use crate::plain::quote;
 use crate::regions::stub::stub_panic;
 use crate::run::build_error::BuildError;
 use crate::run::cargo::{build, executables};
-use crate::run::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
+use crate::run::child::{graded_reads, run_graded, ChildRun, OwnFolder, CHILD_ENV};
 
 /// What one `cargo test <filter>` run found.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -144,31 +144,11 @@ impl TestBinaries {
                     Some(format!("the tests took longer than {:.0} s in all", limit.as_secs_f64()));
                 return result;
             }
-            let mut command = Command::new(&binary.executable);
-            command.current_dir(root).env(CHILD_ENV, "1").envs(env.iter().map(|(k, v)| (k, v)));
-            command.args(["--exact", name, "--test-threads", "1"]);
             let this_limit = left.min(TEST_TIME_LIMIT);
-            let own = match OwnFolder::new() {
-                Ok(own) => own,
+            match binary.run_one(name, root, env, this_limit) {
+                Ok(run) => timed_out = result.count(name, &run, this_limit),
                 Err(e) => {
-                    result.error = Some(format!("cannot make a folder for a test: {e}"));
-                    return result;
-                }
-            };
-            match run_graded(command, this_limit, &graded_reads(root), &own) {
-                Ok(run) if run.success() => result.passed += 1,
-                Ok(run) => {
-                    timed_out = run.status.is_none();
-                    result.failed += 1;
-                    result.failures.push(name.clone());
-                    let message = failure_message(&run, this_limit);
-                    if let Some(k) = stub_panic(&message) {
-                        result.stub_panics.push((name.clone(), k));
-                    }
-                    result.first_failure.get_or_insert_with(|| (name.clone(), message));
-                }
-                Err(e) => {
-                    result.error = Some(format!("cannot run {}: {e}", binary.executable.display()));
+                    result.error = Some(e);
                     return result;
                 }
             }
@@ -177,8 +157,44 @@ impl TestBinaries {
     }
 }
 
+impl TestBinary {
+    /// Runs its test `name` alone, in `root` with `env` added, for at most `limit`.
+    fn run_one(
+        &self,
+        name: &str,
+        root: &Path,
+        env: &[(String, String)],
+        limit: Duration,
+    ) -> Result<ChildRun, String> {
+        let mut command = Command::new(&self.executable);
+        command.current_dir(root).env(CHILD_ENV, "1").envs(env.iter().map(|(k, v)| (k, v)));
+        command.args(["--exact", name, "--test-threads", "1"]);
+        let own = OwnFolder::new().map_err(|e| format!("cannot make a folder for a test: {e}"))?;
+        run_graded(command, limit, &graded_reads(root), &own)
+            .map_err(|e| format!("cannot run {}: {e}", self.executable.display()))
+    }
+}
+
+impl TestRun {
+    /// Counts test `name`'s `run` (limited to `limit`); whether it ran out of time.
+    fn count(&mut self, name: &str, run: &ChildRun, limit: Duration) -> bool {
+        if run.success() {
+            self.passed += 1;
+            return false;
+        }
+        self.failed += 1;
+        self.failures.push(name.to_string());
+        let message = failure_message(run, limit);
+        if let Some(k) = stub_panic(&message) {
+            self.stub_panics.push((name.to_string(), k));
+        }
+        self.first_failure.get_or_insert_with(|| (name.to_string(), message));
+        run.status.is_none()
+    }
+}
+
 /// What a failed test said: the panic message libtest printed, or why the process ended.
-fn failure_message(run: &crate::run::child::ChildRun, limit: Duration) -> String {
+fn failure_message(run: &ChildRun, limit: Duration) -> String {
     let lines: Vec<&str> = run.stdout.lines().collect();
     let message =
         lines.iter().position(|l| l.contains("panicked at")).and_then(|i| lines.get(i + 1)).map(|l| quote(l));

@@ -74,19 +74,9 @@ pub fn grade_submission(
     let target = build_target(work, std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from));
     write_spliced_tree(instructor, &submission, &tree)?;
     let splice_seconds = start.elapsed().as_secs_f64();
-    // A region that does not compile is replaced by its stub, and the tree built again, so that
-    // one stray line costs its own region only.
     progress.set_message("compiling the submission");
     let compiling = std::time::Instant::now();
-    while let Err(error) = build_tests(&tree, Some(&target), BUILD_TIME_LIMIT) {
-        let region = error.place().and_then(|(file, line)| submission.code_region_at(&tree, file, line));
-        if let (Some(taken), BuildError::Compile(compile)) = (region, &error) {
-            *taken = Taken::DoesNotCompile(NotCompiling::Here(compile.clone()));
-        } else if !submission.stub_every_region(&error.heading()) {
-            break; // the starter's stubs do not build either: the instructor's tree is at fault
-        }
-        write_spliced_tree(instructor, &submission, &tree)?;
-    }
+    build_what_compiles(instructor, &mut submission, &tree, &target)?;
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
     let base = GradeOptions {
         code: Some(tree),
@@ -130,6 +120,27 @@ pub fn grade_submission(
         phases,
     };
     Ok(SubmissionReport { isolated, cumulative, submission, splice_seconds, phases, own_tree: false })
+}
+
+/// Builds the spliced `tree` until it compiles: a region that does not is replaced by its stub and
+/// the tree built again, so that one stray line costs its own region only. An error in a file
+/// that is not the student's stubs every region of theirs.
+fn build_what_compiles(
+    instructor: &Path,
+    submission: &mut Submission,
+    tree: &Path,
+    target: &Path,
+) -> Result<(), String> {
+    while let Err(error) = build_tests(tree, Some(target), BUILD_TIME_LIMIT) {
+        let region = error.place().and_then(|(file, line)| submission.code_region_at(tree, file, line));
+        if let (Some(taken), BuildError::Compile(compile)) = (region, &error) {
+            *taken = Taken::DoesNotCompile(NotCompiling::Here(compile.clone()));
+        } else if !submission.stub_every_region(&error.heading()) {
+            break; // the starter's stubs do not build either: the instructor's tree is at fault
+        }
+        write_spliced_tree(instructor, submission, tree)?;
+    }
+    Ok(())
 }
 
 /// `grader submission` in a student's tree, where `root` holds the starter's manifest and no

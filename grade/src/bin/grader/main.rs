@@ -333,7 +333,7 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> 
 
 fn watch(root: &Path, from: u32) -> Result<ExitCode, String> {
     let rubric = raylab_grade::rubric::Rubric::of_tree(root)?;
-    let last = rubric.checkpoints.iter().map(|c| c.id).max().unwrap_or(from);
+    let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).filter(|&id| id >= from).collect();
     let check = |ids: &[u32], stage| {
         let scenes = (stage == Stage::Tests).then(Vec::new);
         let options = GradeOptions { checkpoints: Some(ids.to_vec()), scenes, ..GradeOptions::new(root) };
@@ -341,7 +341,7 @@ fn watch(root: &Path, from: u32) -> Result<ExitCode, String> {
     };
     let mut changes = raylab_grade::watch::Polling::new(&root.join("src"));
     let stamped = !std::io::stdout().is_terminal();
-    raylab_grade::watch::watch(&mut changes, check, (from, last), stamped, &mut std::io::stdout())
+    raylab_grade::watch::watch(&mut changes, check, &ids, stamped, &mut std::io::stdout())
         .map_err(|e| format!("cannot write: {e}"))?;
     Ok(ExitCode::SUCCESS)
 }
