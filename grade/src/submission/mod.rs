@@ -84,24 +84,15 @@ pub fn grade_submission(
         not_started: Some(submission.not_started()),
         ..GradeOptions::new(instructor)
     };
-    let with = |students: &[u32], checkpoints: Option<Vec<u32>>, blame: Blame| GradeOptions {
-        env: vec![(
-            STUDENT_ENV.to_string(),
-            students.iter().map(u32::to_string).collect::<Vec<_>>().join(","),
-        )],
-        checkpoints,
-        blame,
-        ..base.clone()
-    };
     let compiling_seconds = compiling.elapsed().as_secs_f64();
     progress.set_message("the whole renderer");
-    let cumulative = grade(&with(&ids, None, Blame::Culprit), progress)?;
+    let cumulative = grade(&with_students(&base, &ids, None, Blame::Culprit), progress)?;
     let mut phases = cumulative.phases;
     phases.build += compiling_seconds;
     let mut checkpoints = Vec::new();
     for &id in &ids {
         progress.set_message(format!("checkpoint {id} on its own"));
-        let report = grade(&with(&[id], Some(vec![id]), Blame::Isolated), progress)?;
+        let report = grade(&with_students(&base, &[id], Some(vec![id]), Blame::Isolated), progress)?;
         phases += report.phases;
         let mut result = report.checkpoints.into_iter().next().ok_or("the rubric lost a checkpoint")?;
         // A rejected region's code never runs: the starter's stub stands in its place, so it
@@ -120,6 +111,18 @@ pub fn grade_submission(
         phases,
     };
     Ok(SubmissionReport { isolated, cumulative, submission, splice_seconds, phases, own_tree: false })
+}
+
+/// `base` grading `checkpoints` (all if `None`) with the regions of `students` running the
+/// submission's code (the solution's everywhere else), blamed as `blame` says.
+fn with_students(
+    base: &GradeOptions,
+    students: &[u32],
+    checkpoints: Option<Vec<u32>>,
+    blame: Blame,
+) -> GradeOptions {
+    let ids: Vec<String> = students.iter().map(u32::to_string).collect();
+    GradeOptions { env: vec![(STUDENT_ENV.to_string(), ids.join(","))], checkpoints, blame, ..base.clone() }
 }
 
 /// Builds the spliced `tree` until it compiles: a region that does not is replaced by its stub and
