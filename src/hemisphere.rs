@@ -36,6 +36,7 @@ use std::f32::consts::PI;
 /// `n` (Duff et al., "Building an orthonormal basis, revisited", 2017: no branch on a small
 /// component, no square root).
 pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3) {
+    debug_assert!(n.is_normalized(), "tangent_frame needs a unit normal, got {n} (length {})", n.length());
     let sign = 1f32.copysign(n.z);
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;

@@ -65,6 +65,7 @@ impl Ray {
 ///
 /// Both `wo` and the result point away from the surface, on the same side of it as each other.
 pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
+    debug_assert!(n.is_normalized(), "reflect needs a unit normal, got {n} (length {})", n.length());
     2.0 * n.dot(wo) * n - wo
 }
 
