@@ -24,6 +24,7 @@ pub mod report;
 pub mod rubric;
 pub mod run;
 pub mod ssim;
+pub mod stats;
 pub mod submission;
 pub mod verdict;
 pub mod watch;

@@ -42,7 +42,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use raylab_base::film::Film;
-use raylab_base::stats::{sidak, welch, RankTest, Summary};
+use raylab_base::stats::{welch, Summary};
+
+use crate::stats::{sidak, RankTest};
 
 use crate::file_error::{FileError, Problem};
 use crate::plain::NotRead;

@@ -24,7 +24,7 @@ use serde_json::Value;
 use crate::grading::{grade, GradeOptions};
 use crate::outcome::GradeReport;
 use crate::rubric::{Check, GradedScene, Rubric, Threshold};
-use raylab_base::stats::{binomial_at_least, clopper_pearson};
+use crate::stats::{binomial_at_least, clopper_pearson};
 
 /// A count of false fails whose binomial tail under `alpha` is below this is too many.
 pub const TOO_MANY: f64 = 1e-3;
