@@ -15,6 +15,7 @@
 
 mod catalogue;
 mod classroom;
+mod course;
 mod first_build;
 mod gradescope;
 mod handouts;
@@ -45,6 +46,12 @@ enum Command {
         /// Where to write it.
         #[arg(long)]
         out: PathBuf,
+    },
+    /// A course that skips checkpoint ID, made from this tree with no change to the grader:
+    /// its solution grades in full without ID, and its starter stubs every other region.
+    CourseWithout {
+        /// The checkpoint the course skips.
+        id: u32,
     },
     /// For each checkpoint N from 2 to 7 stubbed alone: N's tests all fail, earlier ones pass.
     StubMatrix,
@@ -85,6 +92,7 @@ fn main() -> ExitCode {
             starter::starter(&out).map(|()| println!("wrote the student starter to {}", out.display()))
         }
         Command::StubMatrix => stub_matrix::stub_matrix(),
+        Command::CourseWithout { id } => course::without(id),
         Command::Layers => layers::layers(),
         Command::Zoo => zoo::zoo(),
         Command::StagePoints { mistakes } => stage_points::stage_points(&mistakes),

@@ -4,6 +4,7 @@
 
 pub mod heatmap;
 pub mod html;
+pub mod progress;
 pub mod reasons;
 pub mod tile_map;
 

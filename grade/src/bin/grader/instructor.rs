@@ -13,7 +13,7 @@ use raylab_grade::instructor::render_references::update_references;
 use raylab_grade::instructor::variants::{make_scratch_tree, VariantFile};
 use raylab_grade::rubric::Rubric;
 
-use crate::progress_bar;
+use raylab_grade::report::progress::progress_bar;
 
 /// The instructor's subcommands.
 #[derive(Subcommand)]

@@ -10,17 +10,17 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
 
 #[cfg(feature = "instructor")]
 mod instructor;
 
 use clap::{Args, Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use raylab_base::image_io::write_file_atomic;
 use raylab_grade::grading::{grade, GradeOptions};
 use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};
+use raylab_grade::report::progress::progress_bar;
 use raylab_grade::ssim::SsimMap;
 use raylab_grade::watch::Stage;
 use raylab_grade::{report, report::heatmap::heatmap, report::html, run::probe, run::sandbox};
@@ -227,32 +227,6 @@ fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
             required.join("; ")
         )),
     }
-}
-
-/// A progress bar for the grader's long commands, drawn on a terminal. Elsewhere (CI,
-/// Gradescope, a pipe), where indicatif draws nothing, its message is printed as a line when it
-/// changes and every 10 s while it does not, so a log is never silent for long.
-fn progress_bar(length: u64) -> ProgressBar {
-    let style =
-        ProgressStyle::with_template("{spinner} [{bar:30}] {pos}/{len} {msg}").expect("a valid template");
-    let bar = ProgressBar::new(length).with_style(style.progress_chars("=> "));
-    if !std::io::stderr().is_terminal() {
-        let watched = bar.clone();
-        std::thread::spawn(move || {
-            let (mut last, mut since) = (String::new(), Instant::now());
-            while !watched.is_finished() {
-                let message = watched.message();
-                let step = format!("[{}/{}]", watched.position(), watched.length().unwrap_or(0));
-                if !message.is_empty() && (message != last || since.elapsed() >= Duration::from_secs(10)) {
-                    let still = if message == last { "still " } else { "" };
-                    eprintln!("grader: {step} {still}{message} ({:.0} s)", watched.elapsed().as_secs_f64());
-                    (last, since) = (message, Instant::now());
-                }
-                std::thread::sleep(Duration::from_millis(250));
-            }
-        });
-    }
-    bar
 }
 
 fn run_grade(args: GradeArgs) -> Result<ExitCode, String> {
