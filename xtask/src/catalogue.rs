@@ -4,7 +4,7 @@
 
 #[cfg(test)]
 mod tests {
-    use raylab_grade::instructor::variants::{check_patches, Variant, VariantFile};
+    use raylab_grade::instructor::variants::{check_patches, Change, Patch, Variant, VariantFile};
     use raylab_grade::rubric::{GradedScene, Rubric};
 
     use crate::repository;
@@ -32,9 +32,12 @@ mod tests {
             .iter()
             .filter(|v| !v.correct && !v.stub && v.second_of.is_none() && !v.fails.is_empty())
             .collect();
-        let texts = |v: &Variant| -> Vec<String> {
-            v.patches.iter().map(|p| format!("{:?}{:?}", p.replace, p.body)).collect()
+        // What the mistake writes, not where.
+        let written = |p: &Patch| match &p.change {
+            Change::Replace { replace, .. } => replace.clone(),
+            Change::Body { body, .. } => body.clone(),
         };
+        let texts = |v: &Variant| -> Vec<String> { v.patches.iter().map(written).collect() };
         for second in variants.iter().filter(|v| v.second_of.is_some()) {
             let first = named.iter().find(|f| Some(&f.name) == second.second_of.as_ref());
             let first = first.unwrap_or_else(|| {

@@ -55,19 +55,62 @@ pub struct Variant {
 }
 
 /// One change to one file.
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(try_from = "PatchFile")]
 pub struct Patch {
     /// The file, relative to the tree's root.
     pub file: PathBuf,
-    /// Text to find, exactly once, inside one of the checkpoint's regions of the file...
-    pub find: Option<String>,
-    /// ...and what replaces it.
-    pub replace: Option<String>,
-    /// Or: which of the checkpoint's regions in the file (0 = first) gets a new body...
-    pub region: Option<usize>,
-    /// ...and the body.
-    pub body: Option<String>,
+    /// What changes in it.
+    pub change: Change,
+}
+
+/// What a patch changes in a file's regions of the variant's checkpoint.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Change {
+    /// Text found exactly once inside one of the regions, replaced.
+    Replace {
+        /// The text to find.
+        find: String,
+        /// What replaces it.
+        replace: String,
+    },
+    /// A region's whole body, replaced.
+    Body {
+        /// Which of the checkpoint's regions in the file (0 = first).
+        region: usize,
+        /// The new body.
+        body: String,
+    },
+}
+
+/// A patch as written in `checkpoints/variants.toml`: `find` and `replace`, or `region` and
+/// `body`, refused as it is read otherwise.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PatchFile {
+    file: PathBuf,
+    find: Option<String>,
+    replace: Option<String>,
+    region: Option<usize>,
+    body: Option<String>,
+}
+
+impl TryFrom<PatchFile> for Patch {
+    type Error = String;
+
+    fn try_from(p: PatchFile) -> Result<Patch, String> {
+        let change = match (p.find, p.replace, p.region, p.body) {
+            (Some(find), Some(replace), None, None) => Change::Replace { find, replace },
+            (None, None, Some(region), Some(body)) => Change::Body { region, body },
+            _ => {
+                return Err(format!(
+                    "{}: a patch has either find and replace, or region and body",
+                    p.file.display()
+                ))
+            }
+        };
+        Ok(Patch { file: p.file, change })
+    }
 }
 
 impl VariantFile {
@@ -83,8 +126,8 @@ impl VariantFile {
 pub fn apply(text: &str, checkpoint: u32, patch: &Patch) -> Result<String, String> {
     let regions = region_bodies(text, checkpoint);
     let file = patch.file.display();
-    match (&patch.find, &patch.replace, patch.region, &patch.body) {
-        (Some(find), Some(replace), None, None) => {
+    match &patch.change {
+        Change::Replace { find, replace } => {
             let hits: Vec<usize> = text.match_indices(find.as_str()).map(|(i, _)| i).collect();
             let [at] = hits[..] else {
                 return Err(format!("{file}: {find:?} occurs {} times, not once", hits.len()));
@@ -96,12 +139,11 @@ pub fn apply(text: &str, checkpoint: u32, patch: &Patch) -> Result<String, Strin
             }
             Ok(format!("{}{replace}{}", &text[..at], &text[at + find.len()..]))
         }
-        (None, None, Some(k), Some(body)) => {
+        Change::Body { region: k, body } => {
             let r =
-                regions.get(k).ok_or_else(|| format!("{file}: no region {k} of checkpoint {checkpoint}"))?;
+                regions.get(*k).ok_or_else(|| format!("{file}: no region {k} of checkpoint {checkpoint}"))?;
             Ok(format!("{}{body}{}", &text[..r.start], &text[r.end..]))
         }
-        _ => Err(format!("{file}: a patch has either find and replace, or region and body")),
     }
 }
 
@@ -186,13 +228,7 @@ mod tests {
     );
 
     fn patch(find: &str, replace: &str) -> Patch {
-        Patch {
-            file: "f.rs".into(),
-            find: Some(find.into()),
-            replace: Some(replace.into()),
-            region: None,
-            body: None,
-        }
+        Patch { file: "f.rs".into(), change: Change::Replace { find: find.into(), replace: replace.into() } }
     }
 
     #[test]
@@ -201,15 +237,26 @@ mod tests {
         assert!(apply(TEXT, 2, &patch("x + 1", "x + 2")).unwrap().contains("    x + 2\n"));
         assert!(apply(TEXT, 2, &patch("let x = 1;", "")).is_err(), "found twice");
         assert!(apply(TEXT, 3, &patch("x + 1", "x")).is_err(), "not a checkpoint 3 region");
-        let whole = Patch {
-            file: "f.rs".into(),
-            find: None,
-            replace: None,
-            region: Some(0),
-            body: Some("    todo!()\n".into()),
-        };
+        let whole =
+            Patch { file: "f.rs".into(), change: Change::Body { region: 0, body: "    todo!()\n".into() } };
         let stubbed = apply(TEXT, 2, &whole).unwrap();
         assert!(stubbed.contains("checkpoint2\n    todo!()\n    // END SOLUTION"), "{stubbed}");
         assert!(!stubbed.contains("x + 1"));
+    }
+
+    /// A patch is a replacement or a new body, never both or half of one: refused as it is read.
+    #[test]
+    fn a_patch_is_either_a_replacement_or_a_body() {
+        let read = |fields: &str| toml::from_str::<Patch>(&format!("file = \"f.rs\"\n{fields}"));
+        let replace = read("find = \"a\"\nreplace = \"b\"").unwrap().change;
+        assert_eq!(replace, Change::Replace { find: "a".into(), replace: "b".into() });
+        assert_eq!(
+            read("region = 1\nbody = \"x\"").unwrap().change,
+            Change::Body { region: 1, body: "x".into() }
+        );
+        for half in ["find = \"a\"", "find = \"a\"\nreplace = \"b\"\nbody = \"x\"", "region = 0", ""] {
+            let error = read(half).unwrap_err().to_string();
+            assert!(error.contains("either find and replace, or region and body"), "{half}: {error}");
+        }
     }
 }
