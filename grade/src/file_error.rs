@@ -5,6 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
+use raylab_base::image_io::ImageError;
+
 use crate::plain::NotRead;
 
 /// A file the grader reads or writes, and what is wrong with it.
@@ -54,8 +56,8 @@ pub enum Problem {
         /// The scene's film width and height.
         film: (u32, u32),
     },
-    /// It is not an image the grader can decode.
-    #[error("{0}")]
+    /// It is not an image the grader can read and decode: why.
+    #[error("cannot read the image: {0}")]
     NotAnImage(String),
 }
 
@@ -101,6 +103,12 @@ impl FileError {
     /// `problem` with `file`.
     pub fn new(file: &Path, problem: Problem) -> FileError {
         FileError { file: file.to_path_buf(), problem }
+    }
+
+    /// An image of `file` that cannot be read.
+    pub fn image(file: &Path, error: &ImageError) -> FileError {
+        let (ImageError::Read { message, .. } | ImageError::Write { message, .. }) = error;
+        FileError::new(file, Problem::NotAnImage(message.clone()))
     }
 
     /// A JSON error of `file`.

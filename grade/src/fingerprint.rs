@@ -22,6 +22,7 @@ use std::path::Path;
 use image::RgbImage;
 use serde::{Deserialize, Serialize};
 
+use crate::file_error::{parse_toml, FileError};
 use crate::images::read_png;
 use crate::reference::Manifest;
 use crate::ssim::SsimMap;
@@ -126,19 +127,18 @@ pub struct Fingerprints {
 impl Fingerprints {
     /// Reads `reference/fingerprints/`; none if it is missing. Stale fingerprints (their scene
     /// changed since) are left out.
-    pub fn load(root: &Path, manifest: &Manifest) -> Result<Self, String> {
+    pub fn load(root: &Path, manifest: &Manifest) -> Result<Self, FileError> {
         let dir = root.join(DIR);
         let path = dir.join("manifest.toml");
         let Ok(text) = std::fs::read_to_string(&path) else { return Ok(Self::default()) };
-        let file: FingerprintFile =
-            toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))?;
+        let file: FingerprintFile = parse_toml(&path, &text)?;
         let fresh = |e: &Entry| {
             manifest.references.iter().any(|r| r.name == e.scene && r.inputs_hash == e.inputs_hash)
         };
         let mut prints = Vec::new();
         for entry in file.fingerprints.into_iter().filter(fresh) {
             let image = dir.join(entry.file_name());
-            let thumbnail = read_png(&image).map_err(|e| e.to_string())?;
+            let thumbnail = read_png(&image).map_err(|e| FileError::image(&image, &e))?;
             prints.push((entry, thumbnail));
         }
         Ok(Self { rule: file.rule, prints })

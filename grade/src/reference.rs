@@ -188,8 +188,7 @@ pub fn load_tile_reference(
 
 /// The reference image and masks of a scene, checked to be of the scene's film size.
 pub fn load_reference(root: &Path, scene: &GradedScene) -> Result<(image::RgbImage, Masks), FileError> {
-    let read =
-        |path: &Path| read_png(path).map_err(|e| FileError::new(path, Problem::NotAnImage(e.to_string())));
+    let read = |path: &Path| read_png(path).map_err(|e| FileError::image(path, &e));
     let (image_path, masks_path) = (image_path(root, scene), masks_path(root, scene));
     let (image, masks) = (read(&image_path)?, read(&masks_path)?);
     let film = film_size(root, scene)?;

@@ -6,7 +6,10 @@
 //!
 //! Who loses a failed scene's points, and what its row says, is [`points`]' concern.
 
+mod error;
 pub mod points;
+
+pub use error::GradeError;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -92,7 +95,7 @@ impl GradeOptions {
 
 /// The rubric of the instructor's tree at `root`, with every scene's reference checked
 /// ([`checked_manifest`]): what a grade of someone else's code checks before it builds anything.
-pub fn checked_rubric(root: &Path) -> Result<Rubric, String> {
+pub fn checked_rubric(root: &Path) -> Result<Rubric, GradeError> {
     let rubric = Rubric::of_tree(root)?;
     checked_manifest(root, &rubric, &rubric.scenes)?;
     Ok(rubric)
@@ -121,7 +124,7 @@ impl Plan {
 }
 
 /// The plan of a grade: the rubric, the selection of `options`, the references checked.
-fn plan(options: &GradeOptions) -> Result<Plan, String> {
+fn plan(options: &GradeOptions) -> Result<Plan, GradeError> {
     let root = &options.root;
     let rubric = Rubric::of_tree(root)?;
     let selected = |c: &&Checkpoint| options.checkpoints.as_ref().is_none_or(|ids| ids.contains(&c.id));
@@ -149,7 +152,7 @@ fn render_scenes(
     plan: &Plan,
     progress: &ProgressBar,
     phases: &mut Phases,
-) -> Result<Vec<SceneResult>, String> {
+) -> Result<Vec<SceneResult>, GradeError> {
     let code = options.code.as_deref().unwrap_or(&options.root);
     let renderer = if plan.scenes.is_empty() {
         Err("no scene to render".to_string()) // tests only: nothing to build
@@ -180,9 +183,9 @@ fn render_scenes(
 
 /// Grades the tree at `options.root`; `Err` only for bad input (a broken rubric, a missing or
 /// stale reference), never for anything the graded code does.
-pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeReport, String> {
+pub fn grade(options: &GradeOptions, progress: &ProgressBar) -> Result<GradeReport, GradeError> {
     if std::env::var_os(CHILD_ENV).is_some() {
-        return Err(format!("refusing to grade inside a grader child ({CHILD_ENV} is set)"));
+        return Err(GradeError::InsideChild);
     }
     let start = Instant::now();
     let plan = plan(options)?;
@@ -250,12 +253,12 @@ fn not_started(
     code: &Path,
     rubric: &Rubric,
     checkpoints: &[&Checkpoint],
-) -> Result<Vec<u32>, String> {
+) -> Result<Vec<u32>, GradeError> {
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
     let stubbed = match &options.not_started {
         Some(ids) => ids.clone(),
         None => stubbed_checkpoints(&code.join("src"), &ids)
-            .map_err(|e| format!("{}/src: {e}", code.display()))?,
+            .map_err(|source| GradeError::Unreadable { path: code.join("src"), source })?,
     };
     let counts = |id: &u32| options.blame == Blame::Culprit || checkpoints.iter().any(|c| c.id == *id);
     Ok(stubbed.into_iter().filter(counts).collect())
@@ -275,18 +278,14 @@ fn selected_scenes(
     rubric: &Rubric,
     options: &GradeOptions,
     checkpoints: &[&Checkpoint],
-) -> Result<Vec<GradedScene>, String> {
+) -> Result<Vec<GradedScene>, GradeError> {
     if let Some(names) = &options.scenes {
         return names
             .iter()
             .map(|n| {
-                let known = || rubric.scenes.iter().map(|s| s.name.as_str()).collect::<Vec<_>>().join(", ");
-                rubric
-                    .scenes
-                    .iter()
-                    .find(|s| &s.name == n)
-                    .cloned()
-                    .ok_or_else(|| format!("{n}: not a graded scene (graded: {})", known()))
+                let known = || rubric.scenes.iter().map(|s| s.name.clone()).collect();
+                let scene = rubric.scenes.iter().find(|s| &s.name == n).cloned();
+                scene.ok_or_else(|| GradeError::UnknownScene { name: n.clone(), known: known() })
             })
             .collect();
     }
@@ -406,7 +405,7 @@ fn grade_scene(
     scene: GradedScene,
     render: Render,
     progress: &ProgressBar,
-) -> Result<SceneResult, String> {
+) -> Result<SceneResult, GradeError> {
     let (reference, masks) = load_reference(&options.root, &scene)?;
     let tiles = match &scene.tile_test {
         Some(test) => Some(load_tile_reference(&options.root, &scene, test)?),
@@ -414,7 +413,8 @@ fn grade_scene(
     };
     // Absolute: the renderer runs in a scratch folder, not in the tree.
     let code = options.code.as_deref().unwrap_or(&options.root);
-    let code = std::path::absolute(code).map_err(|e| format!("{}: {e}", code.display()))?;
+    let code = std::path::absolute(code)
+        .map_err(|source| GradeError::Unreadable { path: code.to_path_buf(), source })?;
     let mut result = SceneResult {
         scene: scene.clone(),
         checks: Vec::new(),

@@ -21,7 +21,7 @@ use std::path::Path;
 use indicatif::ProgressBar;
 use serde_json::Value;
 
-use crate::grading::{grade, GradeOptions};
+use crate::grading::{grade, GradeError, GradeOptions};
 use crate::outcome::GradeReport;
 use crate::rubric::{Check, GradedScene, Rubric, Threshold};
 use crate::stats::{binomial_at_least, clopper_pearson};
@@ -136,7 +136,7 @@ pub fn grade_report(
     seed: Option<u64>,
     scenes: Option<Vec<String>>,
     wide_tile_renders: bool,
-) -> Result<GradeReport, String> {
+) -> Result<GradeReport, GradeError> {
     let options = GradeOptions {
         target: Some(target.to_path_buf()),
         run_tests: false,
