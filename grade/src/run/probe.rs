@@ -167,9 +167,41 @@ fn addr(arg: &str) -> std::io::Result<std::net::SocketAddr> {
     arg.parse().map_err(std::io::Error::other)
 }
 
+/// Why a probe did not say whether its attempt was allowed.
+#[derive(Debug, thiserror::Error)]
+pub enum ProbeError {
+    /// Its folder could not be made.
+    #[error("cannot create {}: {source}", .dir.display())]
+    Folder {
+        /// The folder.
+        dir: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// Its folder could not be given to the graded user.
+    #[error("cannot give {} to the graded user: {source}", .dir.display())]
+    GiveToUser {
+        /// The folder.
+        dir: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The launcher could not be started.
+    #[error("cannot start the probe: {0}")]
+    Start(std::io::Error),
+    /// It ended without saying `allowed` or `refused` (the launcher could not raise a wall).
+    #[error("the {attempt} probe did not run: {output}")]
+    DidNotRun {
+        /// The attempt's name.
+        attempt: &'static str,
+        /// What it printed.
+        output: String,
+    },
+}
+
 /// Whether `attempt` (with `arg`) succeeds in a probe started through `launcher` inside the
 /// walls a graded run gets, leaving out `without`; `Err` if the probe did not run.
-pub fn allowed(launcher: &Path, attempt: Attempt, arg: &str, without: &[Wall]) -> Result<bool, String> {
+pub fn allowed(launcher: &Path, attempt: Attempt, arg: &str, without: &[Wall]) -> Result<bool, ProbeError> {
     allowed_in(launcher, Profile::Run, attempt, arg, without)
 }
 
@@ -180,7 +212,7 @@ pub fn allowed_in(
     attempt: Attempt,
     arg: &str,
     without: &[Wall],
-) -> Result<bool, String> {
+) -> Result<bool, ProbeError> {
     let own = tempdir("probe")?;
     let mut probe = Command::new(launcher);
     probe.arg(PROBE).arg(attempt.name()).arg(arg);
@@ -193,23 +225,26 @@ pub fn allowed_in(
         user: None,
     };
     let walls = with_user(walls, &probe, without)
-        .map_err(|e| format!("cannot give {} to the graded user: {e}", own.display()))?;
+        .map_err(|source| ProbeError::GiveToUser { dir: own.clone(), source })?;
     let run = run_with_limit(wrap(launcher, &probe, &walls, without), Duration::from_secs(20));
     let _ = std::fs::remove_dir_all(&own);
-    let run = run.map_err(|e| e.to_string())?;
+    let run = run.map_err(ProbeError::Start)?;
     match run.status.and_then(|s| s.code()) {
         Some(0) if run.stdout.starts_with("allowed") => Ok(true),
         Some(REFUSED) => Ok(false),
-        _ => Err(format!("the {} probe did not run: {}{}", attempt.name(), run.stdout, run.stderr.trim())),
+        _ => Err(ProbeError::DidNotRun {
+            attempt: attempt.name(),
+            output: format!("{}{}", run.stdout, run.stderr.trim()),
+        }),
     }
 }
 
 /// A fresh folder under the system's temporary folder.
-fn tempdir(what: &str) -> Result<PathBuf, String> {
+fn tempdir(what: &str) -> Result<PathBuf, ProbeError> {
     static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
     let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let dir = std::env::temp_dir().join(format!("raylab-{what}-{}-{n}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(|source| ProbeError::Folder { dir: dir.clone(), source })?;
     Ok(dir)
 }
 
@@ -217,7 +252,7 @@ fn tempdir(what: &str) -> Result<PathBuf, String> {
 pub fn measure(launcher: &Path) -> Vec<Measured> {
     let outside = match tempdir("outside") {
         Ok(dir) => dir,
-        Err(e) => return vec![Measured { line: e, holds: false, required: true }],
+        Err(e) => return vec![Measured { line: e.to_string(), holds: false, required: true }],
     };
     let secret = outside.join("secret.txt");
     let _ = std::fs::write(&secret, "secret");
@@ -246,7 +281,7 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
             let (line, holds) = match allowed(launcher, attempt, &arg, &[]) {
                 Ok(false) => (format!("refused: {what}"), true),
                 Ok(true) => (format!("ALLOWED: {what}"), false),
-                Err(e) => (e, false),
+                Err(e) => (e.to_string(), false),
             };
             Measured { line, holds, required: true }
         })
@@ -254,7 +289,7 @@ pub fn measure(launcher: &Path) -> Vec<Measured> {
     let (line, holds) = match allowed(launcher, Attempt::Thread, "", &[]) {
         Ok(true) => ("allowed: start a thread".to_string(), true),
         Ok(false) => ("REFUSED: start a thread (graded code cannot run)".to_string(), false),
-        Err(e) => (e, false),
+        Err(e) => (e.to_string(), false),
     };
     lines.push(Measured { line, holds, required: true });
     #[cfg(target_os = "linux")]

@@ -38,8 +38,7 @@ const SELF_VIEW: [&str; 2] = ["/proc/self", "/sys/fs/cgroup"];
 const BUILD_SYSTEM: [&str; 7] = ["/usr", "/lib", "/lib64", "/etc", "/proc", "/sys", "/dev"];
 
 /// Restricts the calling thread (and what it executes) to `walls`, with `program` executable.
-pub fn restrict(walls: &Walls, program: &OsString) -> Result<RulesetStatus, String> {
-    let error = |e: landlock::RulesetError| format!("cannot raise the file wall: {e}");
+pub fn restrict(walls: &Walls, program: &OsString) -> Result<RulesetStatus, landlock::RulesetError> {
     let mut read: Vec<PathBuf> = match walls.profile {
         Profile::Run => SYSTEM.iter().chain(&SELF_VIEW).map(PathBuf::from).collect(),
         Profile::Build => BUILD_SYSTEM.iter().map(PathBuf::from).chain(toolchain()).collect(),
@@ -62,8 +61,7 @@ pub fn restrict(walls: &Walls, program: &OsString) -> Result<RulesetStatus, Stri
         .and_then(|r| r.create())
         .and_then(|r| r.add_rules(path_beneath_rules(read, AccessFs::from_read(TARGET))))
         .and_then(|r| r.add_rules(path_beneath_rules(write, AccessFs::from_all(TARGET))))
-        .and_then(|r| r.restrict_self())
-        .map_err(error)?;
+        .and_then(|r| r.restrict_self())?;
     Ok(status.ruleset)
 }
 

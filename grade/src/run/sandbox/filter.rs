@@ -16,6 +16,7 @@
 
 use std::collections::BTreeMap;
 
+use super::wall_error::WallError;
 use super::Profile;
 use seccompiler::{
     BackendError, BpfProgram, SeccompAction, SeccompCmpArgLen as Len, SeccompCmpOp as Op, SeccompCondition,
@@ -26,21 +27,20 @@ use seccompiler::{
 /// `execveat` through for descriptor `fd` only in a run. A build may run programs and start
 /// processes (cargo runs rustc, rustc the linker): its filter keeps only the network, other
 /// processes' memory and the kernel's side doors closed.
-pub fn install(fd: libc::c_int, profile: Profile) -> Result<(), String> {
+pub fn install(fd: libc::c_int, profile: Profile) -> Result<(), WallError> {
     let pid = std::process::id() as u64;
-    let error = |e: BackendError| format!("cannot build the seccomp filter: {e}");
-    let arch = TargetArch::try_from(std::env::consts::ARCH).map_err(error)?;
+    let arch = TargetArch::try_from(std::env::consts::ARCH)?;
     let rules = match profile {
         Profile::Run => refusals(fd, pid),
         Profile::Build => build_refusals(),
     };
-    let mut programs = vec![compile(rules.map_err(error)?, libc::EPERM, arch).map_err(error)?];
+    let mut programs = vec![compile(rules?, libc::EPERM, arch)?];
     if profile == Profile::Run {
         let clone3 = BTreeMap::from([(libc::SYS_clone3, Vec::new())]);
-        programs.insert(0, compile(clone3, libc::ENOSYS, arch).map_err(error)?);
+        programs.insert(0, compile(clone3, libc::ENOSYS, arch)?);
     }
     for program in &programs {
-        seccompiler::apply_filter(program).map_err(|e| format!("cannot install the seccomp filter: {e}"))?;
+        seccompiler::apply_filter(program)?;
     }
     Ok(())
 }

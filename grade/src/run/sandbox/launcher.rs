@@ -23,6 +23,7 @@
 use std::ffi::{CString, OsString};
 use std::os::unix::ffi::OsStrExt;
 
+use super::wall_error::{Step, WallError};
 use super::{files, filter, parse_launch, user, Launch, Profile, Wall};
 
 /// Exit status of a launcher that could not raise its walls.
@@ -35,7 +36,7 @@ const PROGRAM_FD: libc::c_int = 1000;
 /// Runs the launcher with `args` (those after `__sandbox`): a run becomes its program and returns
 /// only on failure; a build returns cargo's exit status.
 pub fn launch(args: &[OsString]) -> std::process::ExitCode {
-    let result = parse_launch(args).and_then(|launch| match launch.walls.profile {
+    let result = parse_launch(args).map_err(WallError::from).and_then(|launch| match launch.walls.profile {
         Profile::Run => exec_inside(&launch, launch.parent).map(|()| FAILED),
         Profile::Build => supervise(&launch),
     });
@@ -54,7 +55,7 @@ pub fn launch(args: &[OsString]) -> std::process::ExitCode {
 /// kills that whole group, itself included; otherwise it waits for cargo and exits as cargo did
 /// (128 + the signal that killed it). The grader kills the group when the build ends or its time
 /// is up, as for every child.
-fn supervise(launch: &Launch) -> Result<u8, String> {
+fn supervise(launch: &Launch) -> Result<u8, WallError> {
     die_with(launch.parent, libc::SIGTERM)?;
     let handler = kill_own_group as extern "C" fn(libc::c_int);
     // SAFETY: the handler only calls kill, which is async-signal-safe.
@@ -64,19 +65,20 @@ fn supervise(launch: &Launch) -> Result<u8, String> {
     // resets the handler), or exits.
     let child = unsafe { libc::fork() };
     if child == 0 {
-        let error = exec_inside(launch, me).err().unwrap_or_default();
-        eprintln!("sandbox: {error}");
+        if let Err(error) = exec_inside(launch, me) {
+            eprintln!("sandbox: {error}");
+        }
         // SAFETY: _exit ends the child without running the parent's exit handlers.
         unsafe { libc::_exit(FAILED as libc::c_int) };
     }
     if child < 0 {
-        return Err(format!("cannot start the build: {}", std::io::Error::last_os_error()));
+        return Err(WallError::last_os(Step::StartBuild));
     }
     let mut status = 0;
     // SAFETY: waitpid writes the status of our own child.
     while unsafe { libc::waitpid(child, &mut status, 0) } != child {
         if std::io::Error::last_os_error().kind() != std::io::ErrorKind::Interrupted {
-            return Err(format!("cannot wait for the build: {}", std::io::Error::last_os_error()));
+            return Err(WallError::last_os(Step::WaitBuild));
         }
     }
     Ok(match libc::WIFEXITED(status) {
@@ -93,23 +95,22 @@ extern "C" fn kill_own_group(_: libc::c_int) {
 
 /// Asks for `signal` when the process `parent` (which started this one) dies, and stops if it
 /// already has.
-fn die_with(parent: u32, signal: libc::c_int) -> Result<(), String> {
+fn die_with(parent: u32, signal: libc::c_int) -> Result<(), WallError> {
     // SAFETY: prctl with PR_SET_PDEATHSIG takes a signal number and changes nothing else.
     if unsafe { libc::prctl(libc::PR_SET_PDEATHSIG, signal, 0, 0, 0) } != 0 {
-        return Err(format!("cannot ask to die with the grader: {}", std::io::Error::last_os_error()));
+        return Err(WallError::last_os(Step::DieWithGrader));
     }
     // SAFETY: getppid has no arguments and cannot fail.
     if parent != 0 && unsafe { libc::getppid() } as u32 != parent {
-        return Err("the grader is gone".to_string());
+        return Err(WallError::GraderGone);
     }
     Ok(())
 }
 
 /// Raises the walls and executes the program; `parent` is the process whose death kills it.
-fn exec_inside(launch: &Launch, parent: u32) -> Result<(), String> {
-    let os = |what: &str| format!("{what}: {}", std::io::Error::last_os_error());
+fn exec_inside(launch: &Launch, parent: u32) -> Result<(), WallError> {
     die_with(parent, libc::SIGKILL)?;
-    let program = CString::new(launch.program[0].as_bytes()).map_err(|_| "a NUL in the program's name")?;
+    let program = CString::new(launch.program[0].as_bytes()).map_err(|_| WallError::Nul)?;
     let fd = program_descriptor(&program)?;
     let on = |wall: Wall| !launch.without.contains(&wall);
     if on(Wall::Limits) {
@@ -143,39 +144,39 @@ fn exec_inside(launch: &Launch, parent: u32) -> Result<(), String> {
             libc::AT_EMPTY_PATH,
         );
     }
-    Err(os(&format!("cannot start {}", launch.program[0].to_string_lossy())))
+    Err(WallError::last_os(Step::Exec))
 }
 
 /// Opens `program` and moves it to the descriptor just below the new descriptor limit.
-fn program_descriptor(program: &CString) -> Result<libc::c_int, String> {
-    let os = |what: &str| format!("{what}: {}", std::io::Error::last_os_error());
+fn program_descriptor(program: &CString) -> Result<libc::c_int, WallError> {
+    let os = WallError::last_os;
     let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
     // SAFETY: getrlimit writes into the struct it is given.
     if unsafe { libc::getrlimit(libc::RLIMIT_NOFILE, &mut limit) } != 0 {
-        return Err(os("cannot read the descriptor limit"));
+        return Err(os(Step::ReadDescriptorLimit));
     }
     let n = PROGRAM_FD.min(limit.rlim_max.saturating_sub(1).min(libc::c_int::MAX as u64) as libc::c_int);
     // SAFETY: open reads a NUL-terminated path; dup3 and close take descriptor numbers.
     unsafe {
         let opened = libc::open(program.as_ptr(), libc::O_RDONLY | libc::O_CLOEXEC);
         if opened < 0 {
-            return Err(os(&format!("cannot open {}", program.to_string_lossy())));
+            return Err(os(Step::OpenProgram));
         }
         if libc::dup3(opened, n, libc::O_CLOEXEC) != n {
-            return Err(os("cannot move the program's descriptor"));
+            return Err(os(Step::MoveDescriptor));
         }
         libc::close(opened);
     }
     let below = libc::rlimit { rlim_cur: n as libc::rlim_t, rlim_max: n as libc::rlim_t };
     // SAFETY: setrlimit only reads the struct it is given.
     if unsafe { libc::setrlimit(libc::RLIMIT_NOFILE, &below) } != 0 {
-        return Err(os("cannot lower the descriptor limit"));
+        return Err(os(Step::LowerDescriptorLimit));
     }
     Ok(n)
 }
 
 /// The resource limits of [`super::Walls`], each both soft and hard.
-fn set_limits(launch: &Launch) -> Result<(), String> {
+fn set_limits(launch: &Launch) -> Result<(), WallError> {
     let walls = &launch.walls;
     let pairs = [
         (libc::RLIMIT_AS, walls.limits.memory),
@@ -189,14 +190,12 @@ fn set_limits(launch: &Launch) -> Result<(), String> {
         let rlimit = libc::rlimit { rlim_cur: value as libc::rlim_t, rlim_max: value as libc::rlim_t };
         // SAFETY: setrlimit only reads the struct it is given.
         if unsafe { libc::setrlimit(resource, &rlimit) } != 0 {
-            return Err(format!("cannot set a resource limit: {}", std::io::Error::last_os_error()));
+            return Err(WallError::last_os(Step::SetLimit));
         }
     }
     Ok(())
 }
 
-fn c_strings(items: impl Iterator<Item = Vec<u8>>) -> Result<Vec<CString>, String> {
-    items
-        .map(|bytes| CString::new(bytes).map_err(|_| "a NUL in an argument or variable".to_string()))
-        .collect()
+fn c_strings(items: impl Iterator<Item = Vec<u8>>) -> Result<Vec<CString>, WallError> {
+    items.map(|bytes| CString::new(bytes).map_err(|_| WallError::Nul)).collect()
 }

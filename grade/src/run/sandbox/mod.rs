@@ -47,6 +47,8 @@ pub mod launcher;
 mod limits;
 #[cfg(target_os = "linux")]
 pub mod user;
+#[cfg(target_os = "linux")]
+pub mod wall_error;
 
 pub use limits::{Budget, Limits};
 
@@ -260,8 +262,36 @@ pub struct Launch {
     pub program: Vec<OsString>,
 }
 
+/// What is wrong with the launcher's arguments (the grader writes them: a bug, or a person
+/// starting `grader __sandbox` by hand).
+#[derive(Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ArgumentError {
+    /// A flag without its value.
+    #[error("{0} needs a value")]
+    NoValue(&'static str),
+    /// A flag whose value is not a whole number.
+    #[error("{0} needs a number")]
+    NotANumber(&'static str),
+    /// `--without` names no wall.
+    #[error("no wall is called {0:?}")]
+    UnknownWall(String),
+    /// An argument the launcher does not know.
+    #[error("unknown launcher argument {0:?}")]
+    Unknown(String),
+    /// `--without` given to a release build.
+    #[error("--without is accepted by test builds only")]
+    WithoutInRelease,
+    /// No program after `--`, or no folder to write.
+    #[error("the launcher needs --write DIR and a program after --")]
+    NoProgram,
+}
+
+/// The launcher's flags that take a value.
+const VALUED: [&str; 8] =
+    ["--read", "--write", "--memory", "--file-size", "--cpu", "--parent", "--user", "--without"];
+
 /// Parses the launcher's arguments (those after [`LAUNCH`]).
-pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
+pub fn parse_launch(args: &[OsString]) -> Result<Launch, ArgumentError> {
     let mut walls = Walls {
         profile: Profile::Run,
         read: Vec::new(),
@@ -272,34 +302,41 @@ pub fn parse_launch(args: &[OsString]) -> Result<Launch, String> {
     };
     let (mut parent, mut without) = (0, Vec::new());
     let mut args = args.iter();
-    let number = |value: Option<&OsString>| -> Result<u64, String> {
-        value.and_then(|v| v.to_str()).and_then(|v| v.parse().ok()).ok_or("a number is missing".to_string())
-    };
     while let Some(arg) = args.next() {
-        match arg.to_str().unwrap_or("") {
-            "--read" => walls.read.push(args.next().ok_or("--read needs a path")?.into()),
-            "--build" => walls.profile = Profile::Build,
-            "--write" => walls.write.push(args.next().ok_or("--write needs a path")?.into()),
-            "--memory" => walls.limits.memory = number(args.next())?,
-            "--file-size" => walls.limits.file_size = number(args.next())?,
-            "--cpu" => walls.cpu_seconds = number(args.next())?,
-            "--parent" => parent = number(args.next())? as u32,
-            "--user" => walls.user = Some(number(args.next())? as u32),
-            "--without" => {
-                let name = args.next().and_then(|v| v.to_str()).unwrap_or("");
-                let wall = Wall::ALL.into_iter().find(|w| w.name() == name);
-                without.push(wall.ok_or_else(|| format!("no wall is called {name:?}"))?);
-            }
+        let flag = match arg.to_str().unwrap_or("") {
             "--" => break,
-            other => return Err(format!("unknown launcher argument {other:?}")),
+            "--build" => {
+                walls.profile = Profile::Build;
+                continue;
+            }
+            flag => {
+                VALUED.into_iter().find(|f| *f == flag).ok_or_else(|| ArgumentError::Unknown(flag.into()))?
+            }
+        };
+        let value = args.next().ok_or(ArgumentError::NoValue(flag))?;
+        let number =
+            || value.to_str().and_then(|v| v.parse::<u64>().ok()).ok_or(ArgumentError::NotANumber(flag));
+        match flag {
+            "--read" => walls.read.push(value.into()),
+            "--write" => walls.write.push(value.into()),
+            "--memory" => walls.limits.memory = number()?,
+            "--file-size" => walls.limits.file_size = number()?,
+            "--cpu" => walls.cpu_seconds = number()?,
+            "--parent" => parent = number()? as u32,
+            "--user" => walls.user = Some(number()? as u32),
+            _ => {
+                let name = value.to_str().unwrap_or("");
+                let wall = Wall::ALL.into_iter().find(|w| w.name() == name);
+                without.push(wall.ok_or_else(|| ArgumentError::UnknownWall(name.to_string()))?);
+            }
         }
     }
     if !without.is_empty() && !cfg!(debug_assertions) {
-        return Err("--without is accepted by test builds only".to_string());
+        return Err(ArgumentError::WithoutInRelease);
     }
     let program: Vec<OsString> = args.cloned().collect();
     if program.is_empty() || walls.write.is_empty() {
-        return Err("the launcher needs --write DIR and a program after --".to_string());
+        return Err(ArgumentError::NoProgram);
     }
     Ok(Launch { walls, parent, without, program })
 }
@@ -348,8 +385,18 @@ mod tests {
     #[test]
     fn the_launcher_refuses_what_it_does_not_know() {
         let args = |a: &[&str]| a.iter().map(OsString::from).collect::<Vec<_>>();
-        assert!(parse_launch(&args(&["--write", "/o", "--bogus", "--", "x"])).is_err());
-        assert!(parse_launch(&args(&["--write", "/o", "--"])).is_err());
-        assert!(parse_launch(&args(&["--without", "doors", "--write", "/o", "--", "x"])).is_err());
+        let refused = |a: &[&str]| parse_launch(&args(a)).unwrap_err();
+        assert_eq!(
+            refused(&["--write", "/o", "--bogus", "--", "x"]),
+            ArgumentError::Unknown("--bogus".into())
+        );
+        assert_eq!(refused(&["--write", "/o", "--"]), ArgumentError::NoProgram);
+        let doors = ArgumentError::UnknownWall("doors".into());
+        assert_eq!(refused(&["--without", "doors", "--write", "/o", "--", "x"]), doors);
+        assert_eq!(
+            refused(&["--cpu", "many", "--write", "/o", "--", "x"]),
+            ArgumentError::NotANumber("--cpu")
+        );
+        assert_eq!(refused(&["--write"]), ArgumentError::NoValue("--write"));
     }
 }

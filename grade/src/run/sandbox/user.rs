@@ -15,6 +15,7 @@
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
+use super::wall_error::{Step, WallError};
 use super::{Profile, Walls};
 
 /// The user (and group) every build runs as when the grader is root.
@@ -39,10 +40,10 @@ pub fn runs_as_user(program: &Path) -> bool {
 }
 
 /// The user a process of `profile` with `program`, working in `cwd`, runs as inside `walls`;
-/// `Err` says why it cannot change user (not root, or something it needs is not readable by all).
-pub fn for_launch(walls: &Walls, program: &Path, cwd: Option<&Path>) -> Result<u32, String> {
+/// `Err` says why it cannot change user.
+pub fn for_launch(walls: &Walls, program: &Path, cwd: Option<&Path>) -> Result<u32, SameUser> {
     if !is_root() {
-        return Err("the grader is not root: graded code runs as the grader's own user".to_string());
+        return Err(SameUser::NotRoot);
     }
     let mut needed: Vec<PathBuf> = vec![program.to_path_buf()];
     needed.extend(walls.read.iter().cloned());
@@ -51,12 +52,23 @@ pub fn for_launch(walls: &Walls, program: &Path, cwd: Option<&Path>) -> Result<u
         needed.extend(super::files::toolchain().into_iter().filter(|p| p.exists()));
     }
     match needed.iter().find(|p| !readable_by_all(p)) {
-        Some(path) => Err(format!("{} is not readable by other users", path.display())),
+        Some(path) => Err(SameUser::NotReadable(path.clone())),
         None => Ok(match walls.profile {
             Profile::Build => BUILD_UID,
             Profile::Run => RUN_UID,
         }),
     }
+}
+
+/// Why a graded process runs as the grader's own user.
+#[derive(Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SameUser {
+    /// Only root can change user.
+    #[error("the grader is not root: graded code runs as the grader's own user")]
+    NotRoot,
+    /// Something the process needs could not be read by a user that owns nothing.
+    #[error("{} is not readable by other users", .0.display())]
+    NotReadable(PathBuf),
 }
 
 /// Whether a user that owns nothing can reach `path` (every folder above it searchable by all)
@@ -87,18 +99,18 @@ pub fn give(folder: &Path, uid: u32, recursive: bool) -> std::io::Result<()> {
 }
 
 /// Becomes `uid` (group `uid`, no other groups), for good: real, effective and saved ids.
-pub fn become_user(uid: u32) -> Result<(), String> {
-    let os = |what: &str| format!("cannot {what}: {}", std::io::Error::last_os_error());
+pub fn become_user(uid: u32) -> Result<(), WallError> {
+    let os = WallError::last_os;
     // SAFETY: setgroups with a count of 0 reads no pointer; the set*id calls take numbers only.
     unsafe {
         if libc::setgroups(0, std::ptr::null()) != 0 {
-            return Err(os("drop the supplementary groups"));
+            return Err(os(Step::DropGroups));
         }
         if libc::setresgid(uid, uid, uid) != 0 {
-            return Err(os("change group"));
+            return Err(os(Step::ChangeGroup));
         }
         if libc::setresuid(uid, uid, uid) != 0 {
-            return Err(os("change user"));
+            return Err(os(Step::ChangeUser));
         }
     }
     Ok(())
