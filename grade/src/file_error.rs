@@ -91,24 +91,28 @@ impl std::fmt::Display for FileError {
 
 impl std::error::Error for FileError {}
 
-/// While the layers above still carry their errors as text (issue 25), a file's error goes up as
-/// its message.
-impl From<FileError> for String {
-    fn from(error: FileError) -> String {
-        error.to_string()
-    }
-}
-
 impl FileError {
     /// `problem` with `file`.
     pub fn new(file: &Path, problem: Problem) -> FileError {
         FileError { file: file.to_path_buf(), problem }
     }
 
-    /// An image of `file` that cannot be read.
+    /// `file`, which the system could not read.
+    pub fn unreadable(file: &Path, error: &std::io::Error) -> FileError {
+        FileError::new(file, Problem::Unreadable(NotRead::Io(error.to_string())))
+    }
+
+    /// `file`, which the system could not write.
+    pub fn unwritable(file: &Path, error: &std::io::Error) -> FileError {
+        FileError::new(file, Problem::Unwritable(error.to_string()))
+    }
+
+    /// An image of `file` that cannot be read or written.
     pub fn image(file: &Path, error: &ImageError) -> FileError {
-        let (ImageError::Read { message, .. } | ImageError::Write { message, .. }) = error;
-        FileError::new(file, Problem::NotAnImage(message.clone()))
+        match error {
+            ImageError::Read { message, .. } => FileError::new(file, Problem::NotAnImage(message.clone())),
+            ImageError::Write { message, .. } => FileError::new(file, Problem::Unwritable(message.clone())),
+        }
     }
 
     /// A JSON error of `file`.
@@ -133,8 +137,7 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Re
 
 /// Reads `file` and parses it as TOML into `T`.
 pub fn read_toml<T: serde::de::DeserializeOwned>(file: &Path) -> Result<T, FileError> {
-    let text = std::fs::read_to_string(file)
-        .map_err(|e| FileError::new(file, Problem::Unreadable(NotRead::Io(e.to_string()))))?;
+    let text = std::fs::read_to_string(file).map_err(|e| FileError::unreadable(file, &e))?;
     parse_toml(file, &text)
 }
 

@@ -46,8 +46,7 @@ use raylab_base::stats::{welch, Summary};
 
 use crate::stats::{sidak, RankTest};
 
-use crate::file_error::{FileError, Problem};
-use crate::plain::NotRead;
+use crate::file_error::FileError;
 
 /// Below this fraction of the solution's standard deviation a tile's renders count as not
 /// varying with the seed (module docs): 17 times below the lowest a correct render was seen at.
@@ -305,8 +304,7 @@ impl TileFile {
 
     /// Reads the file.
     pub fn read(path: &Path) -> Result<TileFile, FileError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| FileError::new(path, Problem::Unreadable(NotRead::Io(e.to_string()))))?;
+        let text = std::fs::read_to_string(path).map_err(|e| FileError::unreadable(path, &e))?;
         serde_json::from_str(&text).map_err(|e| FileError::json(path, &e))
     }
 
@@ -314,7 +312,7 @@ impl TileFile {
     pub fn write(&self, path: &Path) -> Result<(), FileError> {
         let text = serde_json::to_string(self).expect("a tile file holds only numbers and lists");
         raylab_base::image_io::write_file_atomic(path, text.as_bytes())
-            .map_err(|e| FileError::new(path, Problem::Unwritable(e.to_string())))
+            .map_err(|e| FileError::unwritable(path, &e))
     }
 }
 

@@ -94,9 +94,7 @@ const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
 /// The hash of a scene file and every mesh file it names, in order.
 pub fn inputs_hash(scene_file: &Path) -> Result<String, FileError> {
-    let read = |p: &Path| {
-        std::fs::read(p).map_err(|e| FileError::new(p, Problem::Unreadable(NotRead::Io(e.to_string()))))
-    };
+    let read = |p: &Path| std::fs::read(p).map_err(|e| FileError::unreadable(p, &e));
     let text = read(scene_file)?;
     let mut hash = fnv1a(&text, FNV_OFFSET);
     let desc: SceneDesc = parse_toml(scene_file, &String::from_utf8_lossy(&text))?;

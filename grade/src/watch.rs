@@ -88,9 +88,9 @@ pub enum Stage {
 /// that fails now is named as a regression and becomes the current one. With `stamped` (output
 /// that is not a terminal) each round starts with the time. Returns when every checkpoint of `ids`
 /// passes or `changes` stops.
-pub fn watch(
+pub fn watch<E: std::fmt::Display>(
     changes: &mut impl Changes,
-    mut check: impl FnMut(&[u32], Stage) -> Result<Vec<CheckpointResult>, String>,
+    mut check: impl FnMut(&[u32], Stage) -> Result<Vec<CheckpointResult>, E>,
     ids: &[u32],
     stamped: bool,
     out: &mut impl Write,
@@ -146,8 +146,8 @@ pub fn watch(
 /// One round of checks: the `current` checkpoint's tests first, answered as soon as they ran;
 /// then the tests of those that passed before (`again`); the scenes only once every test passes.
 /// The results, and whether the current checkpoint was answered already.
-fn round(
-    check: &mut impl FnMut(&[u32], Stage) -> Result<Vec<CheckpointResult>, String>,
+fn round<E: std::fmt::Display>(
+    check: &mut impl FnMut(&[u32], Stage) -> Result<Vec<CheckpointResult>, E>,
     current: u32,
     again: &[u32],
     out: &mut impl Write,
@@ -251,10 +251,11 @@ mod tests {
         let mut runs = 0;
         let check = |ids: &[u32], stage| {
             runs += (stage == Stage::Tests) as u32;
-            Ok(ids
-                .iter()
-                .map(|&id| if id == 2 && runs <= 2 { result(2, 9, 1) } else { result(id, 10, 0) })
-                .collect())
+            Ok::<_, String>(
+                ids.iter()
+                    .map(|&id| if id == 2 && runs <= 2 { result(2, 9, 1) } else { result(id, 10, 0) })
+                    .collect(),
+            )
         };
         let mut out = Vec::new();
         watch(&mut Saves(10), check, &[2, 3], false, &mut out).unwrap();
@@ -273,18 +274,26 @@ mod tests {
     #[test]
     fn grader_watch_names_a_regression_of_a_checkpoint_that_passed() {
         let (mut graded, mut full): (Vec<Vec<u32>>, Vec<Vec<u32>>) = (Vec::new(), Vec::new());
-        let check = |ids: &[u32], stage| {
-            match stage {
-                Stage::Tests => graded.push(ids.to_vec()),
-                Stage::Full => full.push(ids.to_vec()),
-            }
-            // The save before the third round breaks checkpoint 2; the next one mends it.
-            let broken = graded.len() == 4;
-            Ok(ids
-                .iter()
-                .map(|&id| if id == 3 || (id == 2 && broken) { result(id, 9, 1) } else { result(id, 10, 0) })
-                .collect())
-        };
+        let check =
+            |ids: &[u32], stage| {
+                match stage {
+                    Stage::Tests => graded.push(ids.to_vec()),
+                    Stage::Full => full.push(ids.to_vec()),
+                }
+                // The save before the third round breaks checkpoint 2; the next one mends it.
+                let broken = graded.len() == 4;
+                Ok::<_, String>(
+                    ids.iter()
+                        .map(|&id| {
+                            if id == 3 || (id == 2 && broken) {
+                                result(id, 9, 1)
+                            } else {
+                                result(id, 10, 0)
+                            }
+                        })
+                        .collect(),
+                )
+            };
         let mut out = Vec::new();
         watch(&mut Saves(3), check, &[2, 3], true, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
@@ -305,7 +314,7 @@ mod tests {
         let mut out = Vec::new();
         watch(
             &mut Saves(1),
-            |ids: &[u32], _| Ok(ids.iter().map(|&id| result(id, 0, 10)).collect()),
+            |ids: &[u32], _| Ok::<_, String>(ids.iter().map(|&id| result(id, 0, 10)).collect()),
             &[2, 3, 4, 5, 6, 7],
             false,
             &mut out,
@@ -320,7 +329,7 @@ mod tests {
     #[test]
     fn grader_watch_goes_from_one_checkpoint_of_the_rubric_to_the_next() {
         let mut out = Vec::new();
-        let check = |ids: &[u32], _| Ok(ids.iter().map(|&id| result(id, 10, 0)).collect());
+        let check = |ids: &[u32], _| Ok::<_, String>(ids.iter().map(|&id| result(id, 10, 0)).collect());
         watch(&mut Saves(1), check, &[5, 8], false, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         let passes: Vec<&str> = text.lines().filter(|l| l.contains(" passes")).collect();

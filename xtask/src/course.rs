@@ -37,7 +37,7 @@ pub fn without(id: u32) -> Result<(), String> {
     let progress = progress_bar(0);
     let graded = grade(&options, &progress);
     progress.finish_and_clear();
-    let report = graded?;
+    let report = graded.map_err(|e| e.to_string())?;
     print!("{}", raylab_grade::report::text(&report));
     let graded: Vec<u32> = report.checkpoints.iter().map(|c| c.checkpoint.id).collect();
     let wanted: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).collect();
@@ -59,7 +59,7 @@ fn copy_tracked(root: &Path, to: &Path) -> Result<(), String> {
     if to.exists() {
         std::fs::remove_dir_all(to).map_err(|e| format!("{}: {e}", to.display()))?;
     }
-    for file in tracked_files(root)? {
+    for file in tracked_files(root).map_err(|e| e.to_string())? {
         let dest = to.join(&file);
         std::fs::create_dir_all(dest.parent().unwrap_or(to))
             .map_err(|e| format!("{}: {e}", dest.display()))?;

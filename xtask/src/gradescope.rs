@@ -44,7 +44,8 @@ pub fn gradescope_dry_run(emulate: bool) -> Result<(), String> {
     }
     let zip = work.join("autograder.zip");
     let started = Instant::now();
-    raylab_grade::instructor::package::gradescope(root, &work.join("package"), &zip)?;
+    raylab_grade::instructor::package::gradescope(root, &work.join("package"), &zip)
+        .map_err(|e| e.to_string())?;
     println!("packaged {} in {:.0} s", zip.display(), started.elapsed().as_secs_f64());
     let source = autograder.join("source");
     std::fs::create_dir_all(&source).map_err(|e| format!("{}: {e}", source.display()))?;
@@ -57,8 +58,8 @@ pub fn gradescope_dry_run(emulate: bool) -> Result<(), String> {
         started.elapsed().as_secs_f64()
     );
 
-    let total = Rubric::of_tree(root)?.total_points();
-    let starter_points = Rubric::of_tree(root)?.checkpoints[0].test_points;
+    let total = Rubric::of_tree(root).map_err(|e| e.to_string())?.total_points();
+    let starter_points = Rubric::of_tree(root).map_err(|e| e.to_string())?.checkpoints[0].test_points;
     let submission = autograder.join("submission");
     let mut problems = Vec::new();
     let names: &[&str] =
@@ -78,7 +79,7 @@ pub fn gradescope_dry_run(emulate: bool) -> Result<(), String> {
                 crate::starter::starter(&submission.join("raylab-starter"))?;
                 Want::Total(starter_points)
             }
-            hostile => Want::Fixture(fixture::make(root, hostile, &submission)?),
+            hostile => Want::Fixture(fixture::make(root, hostile, &submission).map_err(|e| e.to_string())?),
         };
         // What a graded process could leave where Gradescope reads the result: replaced.
         plant_full_marks(&autograder.join("results/results.json"))?;

@@ -34,7 +34,9 @@ pub fn stage_points(names: &[String]) -> Result<(), String> {
     copy_tree(repository(), &instructor, &skip).map_err(|e| format!("{}: {e}", instructor.display()))?;
     cargo(repository(), &["build", "--release", "-p", "raylab-grade", "--features", "instructor"])?;
     let grader = repository().join("target/release/grader");
-    let catalogue = VariantFile::load(&repository().join("checkpoints/variants.toml"))?.variants;
+    let catalogue = VariantFile::load(&repository().join("checkpoints/variants.toml"))
+        .map_err(|e| e.to_string())?
+        .variants;
     let mut mistakes: Vec<&Variant> = catalogue
         .iter()
         .filter(|v| !v.correct && !v.stub && (names.is_empty() || names.contains(&v.name)))
@@ -105,7 +107,7 @@ fn write_stage(tree: &Path, mistake: &Variant) -> Result<(), String> {
             }
         }
         for patch in mistake.patches.iter().filter(|p| p.file == relative) {
-            written = apply(&written, mistake.checkpoint, patch)?;
+            written = apply(&written, mistake.checkpoint, patch).map_err(|e| e.to_string())?;
         }
         write_if_changed(&tree.join(relative), written.as_bytes())
             .map_err(|e| format!("{}: {e}", relative.display()))?;

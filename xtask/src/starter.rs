@@ -80,7 +80,8 @@ pub fn starter(out: &Path) -> Result<(), String> {
             .then(|| text.replace(on, "default = []"))
             .ok_or_else(|| format!("grade/Cargo.toml: no `{on}`"))
     })?;
-    let rubric = raylab_grade::rubric::Rubric::load(&out.join(raylab_grade::rubric::RUBRIC), out)?;
+    let rubric = raylab_grade::rubric::Rubric::load(&out.join(raylab_grade::rubric::RUBRIC), out)
+        .map_err(|e| e.to_string())?;
     let workflow = out.join(".github/workflows/classroom.yml");
     std::fs::create_dir_all(workflow.parent().unwrap_or(out))
         .map_err(|e| format!("{}: {e}", workflow.display()))?;
@@ -94,7 +95,7 @@ pub fn starter(out: &Path) -> Result<(), String> {
         return Err(format!("solution lines survive in the starter: {survivors:?}"));
     }
     // Last: what `grader submission .` compares a student's tree with.
-    write_starter_manifest(out)
+    write_starter_manifest(out).map_err(|e| e.to_string())
 }
 
 /// The documents a student reads, relative to the starter: the README, the handouts, `docs/`.
@@ -118,7 +119,7 @@ fn documents(out: &Path) -> Result<Vec<String>, String> {
 /// instructor-only ones.
 fn starter_files(root: &Path) -> Result<Vec<PathBuf>, String> {
     let instructor_only = |file: &Path| INSTRUCTOR_ONLY.iter().any(|p| file.starts_with(p));
-    Ok(tracked_files(root)?.into_iter().filter(|f| !instructor_only(f)).collect())
+    Ok(tracked_files(root).map_err(|e| e.to_string())?.into_iter().filter(|f| !instructor_only(f)).collect())
 }
 
 /// A document (README, docs) as students see it: blocks between `<!-- BEGIN INSTRUCTOR -->` and

@@ -18,7 +18,7 @@ pub fn stub_matrix() -> Result<(), String> {
     let work = repository().join("target/stub-matrix");
     // One target folder for every stub: cargo then reuses the dependencies built for earlier ones.
     let (tree, target) = (work.join("tree"), work.join("target"));
-    let rubric = Rubric::of_tree(repository())?;
+    let rubric = Rubric::of_tree(repository()).map_err(|e| e.to_string())?;
     // Each checkpoint's test filters: its public tests', and its hidden tests' if it has some.
     let filters = |m: u32| {
         let checkpoint = rubric.checkpoints.iter().find(|c| c.id == m);
@@ -41,7 +41,7 @@ pub fn stub_matrix() -> Result<(), String> {
             second_of: None,
             patches: Vec::new(),
         };
-        make_scratch_tree(repository(), &tree, &variant)?;
+        make_scratch_tree(repository(), &tree, &variant).map_err(|e| e.to_string())?;
         let binaries = build_tests(&tree, Some(&target), Duration::from_secs(900))
             .map_err(|e| format!("stub {n}: the tests do not build: {e}"))?;
         let mut row = format!("checkpoint {n} stubbed:");

@@ -16,16 +16,17 @@ pub fn zoo() -> Result<(), String> {
     let root = repository();
     let work = root.join("target/zoo");
     let (tree, target) = (work.join("tree"), work.join("target"));
-    let rubric = raylab_grade::rubric::Rubric::of_tree(root)?;
-    let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
-    check_patches(root, &variants)?;
+    let rubric = raylab_grade::rubric::Rubric::of_tree(root).map_err(|e| e.to_string())?;
+    let variants =
+        VariantFile::load(&root.join("checkpoints/variants.toml")).map_err(|e| e.to_string())?.variants;
+    check_patches(root, &variants).map_err(|e| e.to_string())?;
     let mut rows = vec![
         "| variant | checkpoint | kind | failing unit tests | failing scenes | verdict |".to_string(),
         "|---|---|---|---|---|---|".to_string(),
     ];
     let mut problems = Vec::new();
     for v in variants.iter().filter(|v| !v.stub && !v.patches.is_empty()) {
-        make_scratch_tree(root, &tree, v)?;
+        make_scratch_tree(root, &tree, v).map_err(|e| e.to_string())?;
         // A correct alternative must pass every checkpoint's tests (`checkpoint` matches them all;
         // the harness's own snapshots describe the reference solution and may differ).
         let filter = if v.correct { "checkpoint".to_string() } else { format!("checkpoint{}", v.checkpoint) };
@@ -35,7 +36,8 @@ pub fn zoo() -> Result<(), String> {
         };
         let failing_tests: Vec<String> =
             tests.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f).to_string()).collect();
-        let values = grade_images(&tree, &target, None, None, v.checkpoint >= 5)?;
+        let values =
+            grade_images(&tree, &target, None, None, v.checkpoint >= 5).map_err(|e| e.to_string())?;
         let graders_of = |scene: &str| {
             rubric.scenes.iter().find(|s| s.name == scene).map_or(Vec::new(), |s| s.grades.clone())
         };

@@ -37,11 +37,3 @@ pub enum GradeError {
         source: std::io::Error,
     },
 }
-
-/// While the layers above still carry their errors as text (issue 25), a grade's error goes up as
-/// its message.
-impl From<GradeError> for String {
-    fn from(error: GradeError) -> String {
-        error.to_string()
-    }
-}

@@ -21,7 +21,9 @@ use std::path::Path;
 use indicatif::ProgressBar;
 use serde_json::Value;
 
+use crate::file_error::FileError;
 use crate::grading::{grade, GradeError, GradeOptions};
+use crate::instructor::error::InstructorError;
 use crate::outcome::GradeReport;
 use crate::rubric::{Check, GradedScene, Rubric, Threshold};
 use crate::stats::{binomial_at_least, clopper_pearson};
@@ -31,14 +33,14 @@ pub const TOO_MANY: f64 = 1e-3;
 use crate::instructor::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
 
 /// One graded run of one variant with one seed.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Run {
     /// The variant.
     pub variant: Variant,
     /// The seed override, if any.
     pub seed: Option<u64>,
     /// `{scene: {error, passed, checks: {label: {value, passed}}}}`, or why it could not be graded.
-    pub values: Result<Value, String>,
+    pub values: Result<Value, GradeError>,
 }
 
 /// A sweep of the noisy scenes (module docs): seeds 1 to `seeds` for the solution and the
@@ -56,7 +58,11 @@ pub struct Sweep {
 /// Builds and grades every variant: each correct one on every scene, each mistake on the scenes
 /// it must fail, with the seeds it lists; with a [`Sweep`] only the noisy scenes, with its seeds.
 /// `progress` counts runs.
-pub fn run_all(root: &Path, sweep: Option<Sweep>, progress: &ProgressBar) -> Result<Vec<Run>, String> {
+pub fn run_all(
+    root: &Path,
+    sweep: Option<Sweep>,
+    progress: &ProgressBar,
+) -> Result<Vec<Run>, InstructorError> {
     // Calibration needs the correct variants and the mistakes an image must show (`fails`); the
     // rest of the mistake catalogue is `cargo xtask zoo`'s.
     // Every patch must still apply, those of variants calibration does not build included.
@@ -94,7 +100,7 @@ pub fn run_all(root: &Path, sweep: Option<Sweep>, progress: &ProgressBar) -> Res
         }
     };
     // Absolute: cargo runs inside the scratch tree, where a relative path would mean another place.
-    let root = std::path::absolute(root).map_err(|e| format!("{}: {e}", root.display()))?;
+    let root = std::path::absolute(root).map_err(|e| FileError::unreadable(root, &e))?;
     let work = root.join("target/variants");
     let (tree, target) = (work.join("tree"), work.join("target"));
     progress.set_length(variants.iter().map(|v| seeds_of(v).len()).sum::<usize>() as u64);
@@ -125,7 +131,7 @@ pub fn grade_images(
     seed: Option<u64>,
     scenes: Option<Vec<String>>,
     wide_tile_renders: bool,
-) -> Result<Value, String> {
+) -> Result<Value, GradeError> {
     Ok(grade_report(tree, target, seed, scenes, wide_tile_renders)?.values())
 }
 
@@ -155,9 +161,12 @@ pub fn verdicts(runs: &[Run], rubric: &Rubric) -> Vec<String> {
     let mut problems = Vec::new();
     for run in runs {
         let label = run_label(run);
-        let Ok(values) = &run.values else {
-            problems.push(format!("{label}: {}", run.values.as_ref().err().map_or("", String::as_str)));
-            continue;
+        let values = match &run.values {
+            Ok(values) => values,
+            Err(e) => {
+                problems.push(format!("{label}: {e}"));
+                continue;
+            }
         };
         let Some(scenes) = values.as_object() else { continue };
         for (scene, v) in scenes {

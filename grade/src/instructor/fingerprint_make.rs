@@ -24,10 +24,12 @@ use std::path::Path;
 use image::RgbImage;
 use indicatif::ProgressBar;
 
+use crate::file_error::FileError;
 use crate::fingerprint::{thumbnail, Entry, FingerprintFile, Fingerprints, Likeness, Rule, DIR};
 use crate::grading::checked_rubric;
 use crate::images::write_png;
 use crate::instructor::calibrate::grade_report;
+use crate::instructor::error::InstructorError;
 use crate::instructor::variants::{check_patches, make_scratch_tree, Variant, VariantFile};
 use crate::reference::Manifest;
 use crate::rubric::Rubric;
@@ -69,7 +71,7 @@ pub struct Made {
 type Plan<'a> = Vec<(&'a Variant, Vec<(String, Option<u64>)>)>;
 
 /// Renders the catalogue, writes `reference/fingerprints/` and measures the naming (module docs).
-pub fn make(root: &Path, progress: &ProgressBar) -> Result<Made, String> {
+pub fn make(root: &Path, progress: &ProgressBar) -> Result<Made, InstructorError> {
     let rubric = checked_rubric(root)?;
     let catalogue = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
     check_patches(root, &catalogue)?;
@@ -79,7 +81,7 @@ pub fn make(root: &Path, progress: &ProgressBar) -> Result<Made, String> {
         .filter(|v| !v.correct && !v.stub && v.second_of.is_none() && v.fails.iter().any(public))
         .map(|v| (v.name.as_str(), v))
         .collect();
-    let root = std::path::absolute(root).map_err(|e| format!("{}: {e}", root.display()))?;
+    let root = std::path::absolute(root).map_err(|e| FileError::unreadable(root, &e))?;
     let (shots, unrendered) = render(&root, plan(&catalogue, &rubric, &named_by), progress)?;
     let prints = fingerprints(&shots, &named_by, &rubric, &Manifest::load(&root, &rubric)?)?;
     let held_out: Vec<&Shot> = shots
@@ -128,7 +130,11 @@ fn plan<'a>(catalogue: &'a [Variant], rubric: &Rubric, named_by: &BTreeMap<&str,
 
 /// Builds each planned variant in a scratch tree and grades its images: the renders, and the
 /// ones that could not be made (a variant that does not build, a crash), in words.
-fn render(root: &Path, plan: Plan, progress: &ProgressBar) -> Result<(Vec<Shot>, Vec<String>), String> {
+fn render(
+    root: &Path,
+    plan: Plan,
+    progress: &ProgressBar,
+) -> Result<(Vec<Shot>, Vec<String>), InstructorError> {
     progress.set_length(plan.len() as u64);
     let work = root.join("target/variants");
     let (tree, target) = (work.join("tree"), work.join("target"));
@@ -169,17 +175,18 @@ fn fingerprints(
     named_by: &BTreeMap<&str, &Variant>,
     rubric: &Rubric,
     manifest: &Manifest,
-) -> Result<Vec<(Entry, RgbImage)>, String> {
+) -> Result<Vec<(Entry, RgbImage)>, InstructorError> {
     let mut prints = Vec::new();
     for shot in shots.iter().filter(|s| s.seed.is_none()) {
         let Some(v) = named_by.get(shot.variant.as_str()) else { continue };
         let handout = rubric.checkpoints.iter().find(|c| c.id == v.checkpoint).map(|c| &c.handout);
         let reference = manifest.references.iter().find(|r| r.name == shot.scene);
         let (Some(handout), Some(reference)) = (handout, reference) else {
-            return Err(format!(
-                "{}: no checkpoint {} or no reference of {}",
-                v.name, v.checkpoint, shot.scene
-            ));
+            return Err(InstructorError::NoFingerprintBase {
+                variant: v.name.clone(),
+                checkpoint: v.checkpoint,
+                scene: shot.scene.clone(),
+            });
         };
         let entry = Entry {
             scene: shot.scene.clone(),
@@ -316,18 +323,20 @@ fn shot_label(shot: &Shot) -> String {
 }
 
 /// Writes the thumbnails and the manifest, replacing the folder's previous fingerprints.
-fn write(root: &Path, rule: Rule, prints: &[(Entry, RgbImage)]) -> Result<(), String> {
+fn write(root: &Path, rule: Rule, prints: &[(Entry, RgbImage)]) -> Result<(), FileError> {
     let dir = root.join(DIR);
     if dir.exists() {
-        std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::remove_dir_all(&dir).map_err(|e| FileError::unwritable(&dir, &e))?;
     }
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(|e| FileError::unwritable(&dir, &e))?;
     for (entry, image) in prints {
-        write_png(&dir.join(entry.file_name()), image).map_err(|e| e.to_string())?;
+        let path = dir.join(entry.file_name());
+        write_png(&path, image).map_err(|e| FileError::image(&path, &e))?;
     }
     let file = FingerprintFile { rule, fingerprints: prints.iter().map(|(e, _)| e.clone()).collect() };
-    let text = toml::to_string(&file).map_err(|e| e.to_string())?;
+    let text = toml::to_string(&file).expect("a manifest is plain data");
     let header = "# Written by `grader fingerprints`; do not edit by hand.\n\n";
-    raylab_base::image_io::write_file_atomic(&dir.join("manifest.toml"), format!("{header}{text}").as_bytes())
-        .map_err(|e| format!("{}: {e}", dir.display()))
+    let path = dir.join("manifest.toml");
+    raylab_base::image_io::write_file_atomic(&path, format!("{header}{text}").as_bytes())
+        .map_err(|e| FileError::unwritable(&path, &e))
 }

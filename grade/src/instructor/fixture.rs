@@ -12,7 +12,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::file_error::read_toml;
+use crate::file_error::{read_toml, FileError};
+use crate::instructor::error::{FixtureProblem, InstructorError};
 use crate::regions::lexer::line_at;
 use crate::regions::markers::find_regions;
 use crate::regions::stub::rust_files;
@@ -117,9 +118,9 @@ pub fn unchecked_token() -> String {
 }
 
 /// The fixtures' names, sorted.
-pub fn names(root: &Path) -> Result<Vec<String>, String> {
+pub fn names(root: &Path) -> Result<Vec<String>, FileError> {
     let dir = root.join(HOSTILE);
-    let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let entries = std::fs::read_dir(&dir).map_err(|e| FileError::unreadable(&dir, &e))?;
     let mut names: Vec<String> = entries
         .filter_map(Result::ok)
         .filter(|e| e.path().is_dir())
@@ -131,50 +132,54 @@ pub fn names(root: &Path) -> Result<Vec<String>, String> {
 
 /// Writes fixture `name` of the tree at `root` into `dest` (replaced): a copy of the solution
 /// with the fixture's edits. Returns what grading it must give.
-pub fn make(root: &Path, name: &str, dest: &Path) -> Result<Expected, String> {
+pub fn make(root: &Path, name: &str, dest: &Path) -> Result<Expected, InstructorError> {
     let folder = root.join(HOSTILE).join(name);
     let fixture: Fixture = read_toml(&folder.join("fixture.toml"))?;
     let expected: Expected = read_toml(&folder.join("expected.toml"))?;
     if dest.exists() {
-        std::fs::remove_dir_all(dest).map_err(|e| format!("{}: {e}", dest.display()))?;
+        std::fs::remove_dir_all(dest).map_err(|e| FileError::unwritable(dest, &e))?;
     }
     // A student's tree, like the starter, has none of the instructor's hidden files.
     let skip: Vec<&str> = NOT_COPIED.into_iter().chain(HIDDEN_DIRS).collect();
-    copy_tree(root, dest, &skip).map_err(|e| format!("copying {}: {e}", root.display()))?;
-    apply(&fixture, dest, root).map_err(|e| format!("fixture {name}: {e}"))?;
-    let output = expected.output.iter().map(|o| with_lines(o, dest)).collect::<Result<_, _>>();
-    Ok(Expected { output: output.map_err(|e| format!("fixture {name}: expected.toml: {e}"))?, ..expected })
+    copy_tree(root, dest, &skip).map_err(|e| FileError::unwritable(dest, &e))?;
+    let made = apply(&fixture, dest, root)
+        .and_then(|()| expected.output.iter().map(|o| with_lines(o, dest)).collect::<Result<_, _>>());
+    let output = made.map_err(|problem| InstructorError::Fixture { name: name.to_string(), problem })?;
+    Ok(Expected { output, ..expected })
 }
 
 /// `text` with each `{FILE:FUNCTION+N}` replaced by the line number, in the submission at
 /// `dir`, N lines below the `BEGIN SOLUTION` marker of FUNCTION's region in FILE: a line of the
 /// fixture's own body, which a header edit of the solution does not move.
-fn with_lines(text: &str, dir: &Path) -> Result<String, String> {
+fn with_lines(text: &str, dir: &Path) -> Result<String, FixtureProblem> {
     let mut out = String::new();
     let mut rest = text;
     while let Some(open) = rest.find('{') {
-        let close = rest[open..].find('}').ok_or_else(|| format!("an unclosed `{{` in {text:?}"))? + open;
+        let unclosed = || FixtureProblem::BadPlace(rest[open + 1..].to_string());
+        let close = rest[open..].find('}').ok_or_else(unclosed)? + open;
         let place = &rest[open + 1..close];
-        let (file, at) =
-            place.split_once(':').ok_or_else(|| format!("`{{{place}}}`: not FILE:FUNCTION+N"))?;
-        let (function, below) = at.split_once('+').ok_or_else(|| format!("`{{{place}}}`: no +N"))?;
-        let below: usize = below.parse().map_err(|_| format!("`{{{place}}}`: N is not a number"))?;
-        let source = std::fs::read_to_string(dir.join(file)).map_err(|e| format!("{file}: {e}"))?;
-        let found = find_regions(&source).map_err(|e| format!("{file}: {e}"))?;
-        let region = found
-            .iter()
-            .find(|f| f.function == function)
-            .ok_or_else(|| format!("{file}: no region in `{function}`"))?;
-        let marker = line_at(&source, region.body.start) - 1;
+        let line =
+            region_marker_line(dir, place).ok_or_else(|| FixtureProblem::BadPlace(place.to_string()))?;
         out += &rest[..open];
-        out += &(marker + below).to_string();
+        out += &line.to_string();
         rest = &rest[close + 1..];
     }
     Ok(out + rest)
 }
 
-fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), String> {
-    let io = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
+/// The line `N` below the `BEGIN SOLUTION` marker of FUNCTION's region in FILE, for `place`
+/// written `FILE:FUNCTION+N`; `None` if it is not so written or there is no such region.
+fn region_marker_line(dir: &Path, place: &str) -> Option<usize> {
+    let (file, at) = place.split_once(':')?;
+    let (function, below) = at.split_once('+')?;
+    let below: usize = below.parse().ok()?;
+    let source = std::fs::read_to_string(dir.join(file)).ok()?;
+    let region = find_regions(&source).ok()?.into_iter().find(|f| f.function == function)?;
+    Some(line_at(&source, region.body.start) - 1 + below)
+}
+
+fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), FixtureProblem> {
+    let io = |path: &Path, e: std::io::Error| FixtureProblem::File(FileError::unwritable(path, &e));
     for edit in &fixture.region {
         let path = dir.join(&edit.file);
         let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
@@ -183,7 +188,10 @@ fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), String> {
             .into_iter()
             .find(|f| f.function == edit.function)
             .map(|f| f.body)
-            .ok_or_else(|| format!("no region of {} in {}", edit.function, edit.file.display()))?;
+            .ok_or_else(|| FixtureProblem::NoRegion {
+                file: edit.file.clone(),
+                function: edit.function.clone(),
+            })?;
         let mut out = text.clone();
         out.replace_range(range, &edit.body.trim_start_matches('\n').replace(UNCHECKED, &unchecked_token()));
         std::fs::write(&path, out).map_err(|e| io(&path, e))?;
@@ -286,6 +294,6 @@ mod tests {
         let unknown = with_lines("{src/a.rs:b+1}", &dir);
         std::fs::remove_dir_all(&dir).unwrap();
         assert_eq!(expanded.unwrap(), "src/a.rs:6: rejected");
-        assert!(unknown.unwrap_err().contains("no region in `b`"));
+        assert!(matches!(unknown, Err(FixtureProblem::BadPlace(p)) if p == "src/a.rs:b+1"));
     }
 }

@@ -6,6 +6,7 @@
 //! the grader is tested against ([`fixture`]), and the Gradescope package ([`package`]).
 
 pub mod calibrate;
+pub mod error;
 pub mod fingerprint_make;
 pub mod fixture;
 pub mod package;

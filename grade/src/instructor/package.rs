@@ -16,6 +16,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::file_error::FileError;
+use crate::instructor::error::InstructorError;
 use crate::submission::scratch::write_if_changed;
 
 /// Gradescope's two scripts, as the zip holds them.
@@ -26,16 +28,15 @@ const SCRIPTS: [(&str, &str); 2] = [
 
 /// Writes the autograder zip of the tree at `root` to `out`, staging it in `work` (replaced).
 /// Needs `git`, `cargo` and `zip`; `cargo vendor` reads crates from the network or cargo's cache.
-pub fn gradescope(root: &Path, work: &Path, out: &Path) -> Result<(), String> {
+pub fn gradescope(root: &Path, work: &Path, out: &Path) -> Result<(), InstructorError> {
     if work.exists() {
-        std::fs::remove_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
+        std::fs::remove_dir_all(work).map_err(|e| FileError::unwritable(work, &e))?;
     }
     let tree = work.join("raylab");
     for file in tracked_files(root)? {
         let to = tree.join(&file);
-        std::fs::create_dir_all(to.parent().unwrap_or(&tree))
-            .map_err(|e| format!("{}: {e}", to.display()))?;
-        std::fs::copy(root.join(&file), &to).map_err(|e| format!("{}: {e}", file.display()))?;
+        std::fs::create_dir_all(to.parent().unwrap_or(&tree)).map_err(|e| FileError::unwritable(&to, &e))?;
+        std::fs::copy(root.join(&file), &to).map_err(|e| FileError::unwritable(&to, &e))?;
     }
     run(Command::new("cargo")
         .args(["vendor", "--locked", "--versioned-dirs", "--quiet", "--manifest-path"])
@@ -43,23 +44,23 @@ pub fn gradescope(root: &Path, work: &Path, out: &Path) -> Result<(), String> {
         .arg(work.join("vendor")))?;
     for (name, text) in SCRIPTS {
         let path = work.join(name);
-        write_if_changed(&path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+        write_if_changed(&path, text.as_bytes()).map_err(|e| FileError::unwritable(&path, &e))?;
         make_executable(&path)?;
     }
-    let out = std::path::absolute(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let out = std::path::absolute(out).map_err(|e| FileError::unwritable(out, &e))?;
     if let Some(dir) = out.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|e| FileError::unwritable(dir, &e))?;
     }
     // Written beside, then renamed: a failed run never leaves half a zip over a good one.
     let partial = out.with_extension("zip.partial");
     let _ = std::fs::remove_file(&partial);
     run(Command::new("zip").current_dir(work).args(["-q", "-r", "-X"]).arg(&partial).arg("."))?;
-    std::fs::rename(&partial, &out).map_err(|e| format!("{}: {e}", out.display()))
+    Ok(std::fs::rename(&partial, &out).map_err(|e| FileError::unwritable(&out, &e))?)
 }
 
 /// The files of the tree under version control (`git ls-files`: nothing the working folder
 /// happens to hold, such as renders or reports), relative to it.
-pub fn tracked_files(root: &Path) -> Result<Vec<PathBuf>, String> {
+pub fn tracked_files(root: &Path) -> Result<Vec<PathBuf>, InstructorError> {
     let listed = run(Command::new("git").arg("-C").arg(root).args(["ls-files", "-z", "--cached"]))?;
     Ok(listed
         .split('\0')
@@ -70,18 +71,20 @@ pub fn tracked_files(root: &Path) -> Result<Vec<PathBuf>, String> {
 }
 
 /// Runs `command`, returning its standard output, or its standard error as the reason it failed.
-fn run(command: &mut Command) -> Result<String, String> {
+fn run(command: &mut Command) -> Result<String, InstructorError> {
     let program = command.get_program().to_string_lossy().into_owned();
-    let out = command.output().map_err(|e| format!("cannot run {program}: {e}"))?;
+    let out =
+        command.output().map_err(|source| InstructorError::CannotRun { program: program.clone(), source })?;
     if !out.status.success() {
         let stderr = String::from_utf8_lossy(&out.stderr);
-        return Err(format!("{program} failed: {}", stderr.trim().lines().last().unwrap_or("no message")));
+        let last_line = stderr.trim().lines().last().unwrap_or("no message").to_string();
+        return Err(InstructorError::Failed { program, last_line });
     }
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
-fn make_executable(path: &Path) -> Result<(), String> {
+fn make_executable(path: &Path) -> Result<(), FileError> {
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755))
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|e| FileError::unwritable(path, &e))
 }

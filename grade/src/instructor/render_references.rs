@@ -4,7 +4,7 @@
 //! module (the `instructor` feature): a student's grader never links the renderer, so saving a
 //! region never rebuilds it.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use image::RgbImage;
@@ -13,12 +13,14 @@ use raylab::geometry::SplitMethod;
 use raylab::integrator::trace_to_diffuse;
 use raylab::material::Material;
 use raylab::math::{spawn_ray_to, UVec2, Vec2};
-use raylab::scene::{Scene, World};
+use raylab::scene::{Scene, SceneError, World};
 use raylab_base::film::Film;
 use raylab_base::image_io::write_file_atomic;
 
 use crate::features::Masks;
+use crate::file_error::FileError;
 use crate::images::{film_to_image, write_png};
+use crate::instructor::error::InstructorError;
 use crate::noisy::{expected_seed, solution_seed, tile_means, TileFile};
 use crate::reference::{
     image_path, inputs_hash, masks_path, reference_dir, tiles_path, Manifest, ReferenceEntry,
@@ -46,8 +48,8 @@ pub fn render_scene(
     spp: u32,
     seed: u64,
     tracing: Tracing,
-) -> Result<(Scene, Film), String> {
-    let loaded = Scene::load(&root.join(&scene.file)).map_err(|e| e.to_string())?;
+) -> Result<(Scene, Film), SceneError> {
+    let loaded = Scene::load(&root.join(&scene.file))?;
     let mut settings = loaded.settings;
     settings.spp = spp;
     settings.seed = seed;
@@ -58,7 +60,11 @@ pub fn render_scene(
 /// The reference of a tile-tested scene: its `reference_renders` high-spp renders (whose average
 /// is returned as the reference image) and `solution_renders` renders at the graded spp, as tile
 /// means written to [`tiles_path`].
-fn render_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> Result<(Scene, Film), String> {
+fn render_tile_reference(
+    root: &Path,
+    scene: &GradedScene,
+    test: &TileTest,
+) -> Result<(Scene, Film), InstructorError> {
     let mut expected = Vec::new();
     let mut average: Option<(Scene, Film)> = None;
     for r in 0..test.reference_renders {
@@ -77,16 +83,20 @@ fn render_tile_reference(root: &Path, scene: &GradedScene, test: &TileTest) -> R
     let file =
         TileFile { tile: test.tile, reference_spp: scene.reference_spp, spp: scene.spp, expected, solution };
     file.write(&tiles_path(root, scene))?;
-    average.ok_or_else(|| format!("scene {}: tile_test needs reference renders", scene.name))
+    average.ok_or_else(|| InstructorError::NoTileRenders(scene.name.clone()))
 }
 
 /// Re-renders every reference image and mask and rewrites the manifest (the instructor's
 /// command; it must run on the reference solution).
-pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -> Result<Manifest, String> {
+pub fn update_references(
+    root: &Path,
+    rubric: &Rubric,
+    progress: &ProgressBar,
+) -> Result<Manifest, InstructorError> {
     let mut manifest = Manifest::default();
     for scene in &rubric.scenes {
         let dir = root.join(reference_dir(scene.hidden));
-        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(&dir).map_err(|e| FileError::unwritable(&dir, &e))?;
         progress.set_message(scene.name.clone());
         let start = Instant::now();
         let (loaded, film) = match &scene.tile_test {
@@ -98,9 +108,12 @@ pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -
         // Timed as the grader's renders trace, through checkpoint 4's tree.
         render_scene(root, scene, scene.spp, scene.seed, GRADED_TRACING)?;
         let graded_render_seconds = start.elapsed().as_secs_f64();
-        write_png(&image_path(root, scene), &film_to_image(&film)).map_err(|e| e.to_string())?;
+        let png = |path: PathBuf, image: &RgbImage| {
+            write_png(&path, image).map_err(|e| FileError::image(&path, &e))
+        };
+        png(image_path(root, scene), &film_to_image(&film))?;
         let masks = render_masks(&GRADED_TRACING(&loaded));
-        write_png(&masks_path(root, scene), masks.image()).map_err(|e| e.to_string())?;
+        png(masks_path(root, scene), masks.image())?;
         manifest.references.push(ReferenceEntry {
             name: scene.name.clone(),
             inputs_hash: inputs_hash(&root.join(&scene.file))?,
@@ -127,11 +140,11 @@ pub fn update_references(root: &Path, rubric: &Rubric, progress: &ProgressBar) -
                 .cloned()
                 .collect(),
         };
-        let text = toml::to_string_pretty(&part).map_err(|e| e.to_string())?;
+        let text = toml::to_string_pretty(&part).expect("a manifest is plain data");
         let path = root.join(reference_dir(hidden)).join("manifest.toml");
         let header = "# Written by `grader update-references`; do not edit by hand.\n\n";
         write_file_atomic(&path, format!("{header}{text}").as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(|e| FileError::unwritable(&path, &e))?;
     }
     Ok(manifest)
 }

@@ -11,6 +11,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use crate::file_error::{read_toml, FileError};
+use crate::instructor::error::{InstructorError, PatchProblem, Unpatched};
 use crate::regions::stub::{region_bodies, stub_regions};
 use crate::submission::scratch::{copy_tree, NOT_COPIED};
 
@@ -95,19 +97,19 @@ struct PatchFile {
     body: Option<String>,
 }
 
-impl TryFrom<PatchFile> for Patch {
-    type Error = String;
+/// A patch with neither or both of its two forms, or half of one: its file.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: a patch has either find and replace, or region and body", .0.display())]
+pub struct HalfPatch(PathBuf);
 
-    fn try_from(p: PatchFile) -> Result<Patch, String> {
+impl TryFrom<PatchFile> for Patch {
+    type Error = HalfPatch;
+
+    fn try_from(p: PatchFile) -> Result<Patch, HalfPatch> {
         let change = match (p.find, p.replace, p.region, p.body) {
             (Some(find), Some(replace), None, None) => Change::Replace { find, replace },
             (None, None, Some(region), Some(body)) => Change::Body { region, body },
-            _ => {
-                return Err(format!(
-                    "{}: a patch has either find and replace, or region and body",
-                    p.file.display()
-                ))
-            }
+            _ => return Err(HalfPatch(p.file)),
         };
         Ok(Patch { file: p.file, change })
     }
@@ -115,33 +117,29 @@ impl TryFrom<PatchFile> for Patch {
 
 impl VariantFile {
     /// Loads the variants file.
-    pub fn load(path: &Path) -> Result<Self, String> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        toml::from_str(&text).map_err(|e| format!("{}: {}", path.display(), e.message()))
+    pub fn load(path: &Path) -> Result<Self, FileError> {
+        read_toml(path)
     }
 }
 
 /// Applies `patch` for `checkpoint` to `text`.
-pub fn apply(text: &str, checkpoint: u32, patch: &Patch) -> Result<String, String> {
+pub fn apply(text: &str, checkpoint: u32, patch: &Patch) -> Result<String, PatchProblem> {
     let regions = region_bodies(text, checkpoint);
-    let file = patch.file.display();
+    let file = patch.file.clone();
     match &patch.change {
         Change::Replace { find, replace } => {
             let hits: Vec<usize> = text.match_indices(find.as_str()).map(|(i, _)| i).collect();
             let [at] = hits[..] else {
-                return Err(format!("{file}: {find:?} occurs {} times, not once", hits.len()));
+                return Err(PatchProblem::NotOnce { file, find: find.clone(), count: hits.len() });
             };
             if !regions.iter().any(|r| r.start <= at && at + find.len() <= r.end) {
-                return Err(format!(
-                    "{file}: {find:?} is not inside a checkpoint {checkpoint} solution region"
-                ));
+                return Err(PatchProblem::OutsideRegion { file, find: find.clone(), checkpoint });
             }
             Ok(format!("{}{replace}{}", &text[..at], &text[at + find.len()..]))
         }
-        Change::Body { region: k, body } => {
+        Change::Body { region, body } => {
             let r =
-                regions.get(*k).ok_or_else(|| format!("{file}: no region {k} of checkpoint {checkpoint}"))?;
+                regions.get(*region).ok_or(PatchProblem::NoRegion { file, region: *region, checkpoint })?;
             Ok(format!("{}{body}{}", &text[..r.start], &text[r.end..]))
         }
     }
@@ -150,7 +148,7 @@ pub fn apply(text: &str, checkpoint: u32, patch: &Patch) -> Result<String, Strin
 /// Checks that every patch of every variant applies to the sources at `root` as they are now, so
 /// a change to a solution region that breaks the catalogue is found before anything is built.
 /// The error lists every patch that no longer applies, one per line.
-pub fn check_patches(root: &Path, variants: &[Variant]) -> Result<(), String> {
+pub fn check_patches(root: &Path, variants: &[Variant]) -> Result<(), InstructorError> {
     let mut problems = Vec::new();
     for variant in variants {
         let mut patched: Vec<(&Path, String)> = Vec::new();
@@ -160,42 +158,42 @@ pub fn check_patches(root: &Path, variants: &[Variant]) -> Result<(), String> {
                 None => match std::fs::read_to_string(root.join(&patch.file)) {
                     Ok(text) => text,
                     Err(e) => {
-                        problems.push(format!("variant {}: {}: {e}", variant.name, patch.file.display()));
+                        let problem = FileError::unreadable(&patch.file, &e).into();
+                        problems.push(Unpatched { variant: variant.name.clone(), problem });
                         continue;
                     }
                 },
             };
             match apply(&text, variant.checkpoint, patch) {
                 Ok(text) => patched.push((&patch.file, text)),
-                Err(e) => problems.push(format!("variant {}: {e}", variant.name)),
+                Err(problem) => problems.push(Unpatched { variant: variant.name.clone(), problem }),
             }
         }
     }
     if problems.is_empty() {
         Ok(())
     } else {
-        Err(problems.join("\n"))
+        Err(InstructorError::Catalogue(problems))
     }
 }
 
 /// Copies the tree at `root` to `dest` (without build output or version control) and applies the
 /// variant's patches there.
-pub fn make_scratch_tree(root: &Path, dest: &Path, variant: &Variant) -> Result<(), String> {
+pub fn make_scratch_tree(root: &Path, dest: &Path, variant: &Variant) -> Result<(), InstructorError> {
     if dest.exists() {
-        std::fs::remove_dir_all(dest).map_err(|e| format!("{}: {e}", dest.display()))?;
+        std::fs::remove_dir_all(dest).map_err(|e| FileError::unwritable(dest, &e))?;
     }
-    copy_tree(root, dest, &NOT_COPIED)
-        .map_err(|e| format!("copying {} to {}: {e}", root.display(), dest.display()))?;
+    copy_tree(root, dest, &NOT_COPIED).map_err(|e| FileError::unwritable(dest, &e))?;
     if variant.stub {
-        stub_tree(&dest.join("src"), &[variant.checkpoint])
-            .map_err(|e| format!("stubbing {}: {e}", dest.display()))?;
+        stub_tree(&dest.join("src"), &[variant.checkpoint]).map_err(|e| FileError::unwritable(dest, &e))?;
     }
     for patch in &variant.patches {
         let path = dest.join(&patch.file);
-        let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let patched =
-            apply(&text, variant.checkpoint, patch).map_err(|e| format!("variant {}: {e}", variant.name))?;
-        std::fs::write(&path, patched).map_err(|e| format!("{}: {e}", path.display()))?;
+        let text = std::fs::read_to_string(&path).map_err(|e| FileError::unreadable(&path, &e))?;
+        let unpatched =
+            |problem| InstructorError::Catalogue(vec![Unpatched { variant: variant.name.clone(), problem }]);
+        let patched = apply(&text, variant.checkpoint, patch).map_err(unpatched)?;
+        std::fs::write(&path, patched).map_err(|e| FileError::unwritable(&path, &e))?;
     }
     Ok(())
 }

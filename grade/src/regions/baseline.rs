@@ -14,8 +14,10 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::file_error::{FileError, Problem};
 use crate::plain::{kind, quote, read_plain, walk, FileKind, MAX_FILE_BYTES};
 use crate::reference::fnv1a_hex;
+use crate::regions::lexer::line_at;
 use crate::regions::markers::{find_regions, Region};
 use crate::regions::stub::rust_files;
 
@@ -51,7 +53,7 @@ pub enum Baseline<'a> {
 
 impl Baseline<'_> {
     /// Every solution region.
-    pub fn regions(&self) -> Result<Vec<Region>, String> {
+    pub fn regions(&self) -> Result<Vec<Region>, FileError> {
         match self {
             Baseline::Tree(tree) => regions_of(tree),
             Baseline::Starter(manifest) => Ok(manifest
@@ -75,11 +77,11 @@ impl Baseline<'_> {
     }
 
     /// Its files in the folders where a deletion is listed, hidden ones left out.
-    fn kept_files(&self) -> Result<Vec<PathBuf>, String> {
+    fn kept_files(&self) -> Result<Vec<PathBuf>, FileError> {
         let kept = |p: &Path| KEPT_FOLDERS.iter().any(|f| p.starts_with(f)) && !is_hidden(p);
         match self {
             Baseline::Tree(tree) => {
-                let listing = walk(tree, &NOT_COMPARED).map_err(|e| format!("{}: {e}", tree.display()))?;
+                let listing = walk(tree, &NOT_COMPARED).map_err(|e| FileError::unreadable(tree, &e))?;
                 Ok(listing
                     .into_iter()
                     .filter(|(p, k)| *k == FileKind::File && kept(p))
@@ -94,13 +96,18 @@ impl Baseline<'_> {
 }
 
 /// The regions of every Rust file below `tree/src`: file (relative), checkpoint, function.
-pub fn regions_of(tree: &Path) -> Result<Vec<Region>, String> {
+pub fn regions_of(tree: &Path) -> Result<Vec<Region>, FileError> {
     let src = tree.join("src");
-    let files = rust_files(&src).map_err(|e| format!("{}: {e}", src.display()))?;
+    let files = rust_files(&src).map_err(|e| FileError::unreadable(&src, &e))?;
     let mut regions = Vec::new();
     for (path, text) in files {
         let file = path.strip_prefix(tree).unwrap_or(&path).to_path_buf();
-        let found = find_regions(&text).map_err(|e| format!("{}: {e}", file.display()))?;
+        let found = find_regions(&text).map_err(|e| {
+            FileError::new(
+                &file,
+                Problem::Syntax { line: Some(line_at(&text, e.byte)), message: e.to_string() },
+            )
+        })?;
         regions.extend(found.into_iter().map(|f| Region {
             file: file.clone(),
             checkpoint: f.checkpoint,
@@ -111,28 +118,28 @@ pub fn regions_of(tree: &Path) -> Result<Vec<Region>, String> {
 }
 
 /// Writes the manifest of the starter at `starter`.
-pub fn write_starter_manifest(starter: &Path) -> Result<(), String> {
-    let listing = walk(starter, &NOT_COMPARED).map_err(|e| format!("{}: {e}", starter.display()))?;
+pub fn write_starter_manifest(starter: &Path) -> Result<(), FileError> {
+    let listing = walk(starter, &NOT_COMPARED).map_err(|e| FileError::unreadable(starter, &e))?;
     let mut manifest = StarterManifest::default();
     for (path, _) in listing.into_iter().filter(|(_, k)| *k == FileKind::File) {
-        let bytes = std::fs::read(starter.join(&path)).map_err(|e| format!("{}: {e}", path.display()))?;
+        let bytes = std::fs::read(starter.join(&path)).map_err(|e| FileError::unreadable(&path, &e))?;
         manifest.files.insert(slashed(&path), fingerprint(&path, &bytes));
     }
     manifest.regions =
         regions_of(starter)?.into_iter().map(|r| (slashed(&r.file), r.checkpoint, r.function)).collect();
-    let text = serde_json::to_string_pretty(&manifest).map_err(|e| e.to_string())?;
+    let text = serde_json::to_string_pretty(&manifest).expect("a manifest is plain data");
     let path = starter.join(STARTER_MANIFEST);
-    std::fs::write(&path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
+    std::fs::write(&path, text + "\n").map_err(|e| FileError::unwritable(&path, &e))
 }
 
 /// Reads the starter's manifest of the tree at `root`, if it has one (a student's tree).
-pub fn starter_manifest(root: &Path) -> Result<Option<StarterManifest>, String> {
+pub fn starter_manifest(root: &Path) -> Result<Option<StarterManifest>, FileError> {
     let path = root.join(STARTER_MANIFEST);
     if !path.is_file() {
         return Ok(None);
     }
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    serde_json::from_str(&text).map(Some).map_err(|e| format!("{}: {e}", path.display()))
+    let text = std::fs::read_to_string(&path).map_err(|e| FileError::unreadable(&path, &e))?;
+    serde_json::from_str(&text).map(Some).map_err(|e| FileError::json(&path, &e))
 }
 
 /// Files of the submission that differ from the baseline outside the regions, that the baseline
@@ -140,8 +147,8 @@ pub fn starter_manifest(root: &Path) -> Result<Option<StarterManifest>, String> 
 /// anything that is not a plain file or folder, and files too large to read. Files where the
 /// instructor keeps hidden ones are listed as ignored, never compared, and the instructor's
 /// hidden files are never named.
-pub fn ignored_files(baseline: &Baseline, submission: &Path) -> Result<Vec<String>, String> {
-    let listing = walk(submission, &NOT_COMPARED).map_err(|e| format!("{}: {e}", submission.display()))?;
+pub fn ignored_files(baseline: &Baseline, submission: &Path) -> Result<Vec<String>, FileError> {
+    let listing = walk(submission, &NOT_COMPARED).map_err(|e| FileError::unreadable(submission, &e))?;
     let mut ignored = Vec::new();
     for (path, kind) in listing {
         // A file name is the student's text too: one clean line in a report.

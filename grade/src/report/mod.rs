@@ -11,8 +11,10 @@ pub mod tile_map;
 use std::fmt::Write;
 use std::path::Path;
 
+use image::RgbImage;
 use serde_json::json;
 
+use crate::file_error::FileError;
 use crate::images::write_png;
 use crate::outcome::{GradeReport, SceneResult, SceneStatus};
 use crate::report::heatmap::heatmap;
@@ -179,22 +181,21 @@ fn round2(x: f64) -> f64 {
 /// Writes each public scene's render into `dir` as `<scene>.png` (a noisy scene's: the mean of
 /// its renders), with its difference heat map as `<scene>.diff.png`, or a noisy scene's tile map
 /// as `<scene>.tiles.png` (a hidden scene's images are never shown).
-pub fn write_images(report: &GradeReport, dir: &Path) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+pub fn write_images(report: &GradeReport, dir: &Path) -> Result<(), FileError> {
+    std::fs::create_dir_all(dir).map_err(|e| FileError::unwritable(dir, &e))?;
+    let png = |name: String, image: &RgbImage| {
+        let path = dir.join(name);
+        write_png(&path, image).map_err(|e| FileError::image(&path, &e))
+    };
     for s in report.scenes.iter().filter(|s| !s.scene.hidden) {
         if let Some(render) = &s.render {
-            write_png(&dir.join(format!("{}.png", s.scene.name)), render).map_err(|e| e.to_string())?;
+            png(format!("{}.png", s.scene.name), render)?;
         }
         if let (Some(ssim), None) = (&s.ssim, &s.tiles) {
-            write_png(&dir.join(format!("{}.diff.png", s.scene.name)), &heatmap(ssim, &s.reference))
-                .map_err(|e| e.to_string())?;
+            png(format!("{}.diff.png", s.scene.name), &heatmap(ssim, &s.reference))?;
         }
         if let (Some(verdict), Some(test)) = (&s.tiles, &s.scene.tile_test) {
-            write_png(
-                &dir.join(format!("{}.tiles.png", s.scene.name)),
-                &tile_map(verdict, test.tile, &s.reference),
-            )
-            .map_err(|e| e.to_string())?;
+            png(format!("{}.tiles.png", s.scene.name), &tile_map(verdict, test.tile, &s.reference))?;
         }
     }
     Ok(())

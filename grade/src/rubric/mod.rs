@@ -327,14 +327,6 @@ pub enum RubricError {
     },
 }
 
-/// While the layers above still carry their errors as text (issue 25), a rubric's error goes up
-/// as its message.
-impl From<RubricError> for String {
-    fn from(error: RubricError) -> String {
-        error.to_string()
-    }
-}
-
 impl Rubric {
     /// The rubric of the tree at `root`: `checkpoints/rubric.toml`, with the hidden checks of
     /// `hidden/rubric.toml` merged in if the tree has them (the instructor's does, a starter not).

@@ -24,34 +24,35 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 use raylab_base::image_io::write_file_atomic;
 
+use crate::file_error::FileError;
 use crate::grading::checked_rubric;
 use crate::plain::{is_plain_dir, kind, FileKind};
 use crate::report::html::escape;
 use crate::submission::unpack::unpack_zip;
-use crate::submission::{grade_submission, results_json, text, SubmissionReport};
+use crate::submission::{grade_submission, results_json, text, SubmissionError, SubmissionReport};
 
 /// One student's outcome.
 pub struct Row {
     /// The submission's folder (or zip) name.
     pub student: String,
     /// The graded submission, or why it could not be graded.
-    pub graded: Result<SubmissionReport, String>,
+    pub graded: Result<SubmissionReport, SubmissionError>,
 }
 
 /// One submission found in the class: its name, and its folder or why there is none.
-#[derive(Debug, PartialEq, Eq)]
+#[derive(Debug)]
 pub struct Entry {
     /// The student, by the folder or zip's name.
     pub student: String,
     /// The folder to grade, or why it cannot be read (a zip that does not unpack).
-    pub dir: Result<PathBuf, String>,
+    pub dir: Result<PathBuf, SubmissionError>,
     /// Whether `dir` was unpacked by the grader (and is removed once graded).
     pub unpacked: bool,
 }
 
 /// The submissions named by `dirs` (see the module docs), each class sorted by name; zips are
 /// unpacked into `unpacked`. `Err` only when none is found.
-pub fn submissions(dirs: &[PathBuf], unpacked: &Path) -> Result<Vec<Entry>, String> {
+pub fn submissions(dirs: &[PathBuf], unpacked: &Path) -> Result<Vec<Entry>, SubmissionError> {
     let mut names = BTreeSet::new();
     let mut found = Vec::new();
     for (i, dir) in dirs.iter().enumerate() {
@@ -66,7 +67,7 @@ pub fn submissions(dirs: &[PathBuf], unpacked: &Path) -> Result<Vec<Entry>, Stri
             continue;
         }
         names.remove(&top.student);
-        let listing = std::fs::read_dir(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+        let listing = std::fs::read_dir(&folder).map_err(|e| FileError::unreadable(&folder, &e))?;
         let mut inner: Vec<PathBuf> = listing
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| is_plain_dir(p) || is_zip(p))
@@ -79,7 +80,7 @@ pub fn submissions(dirs: &[PathBuf], unpacked: &Path) -> Result<Vec<Entry>, Stri
         }));
     }
     if found.is_empty() {
-        return Err("no submissions found".to_string());
+        return Err(SubmissionError::NoSubmissions);
     }
     Ok(found)
 }
@@ -91,8 +92,8 @@ fn entry(path: &Path, dest: &Path, student: String) -> Entry {
     }
     let _ = std::fs::remove_dir_all(dest);
     let parent = dest.parent().unwrap_or(dest);
-    let made = std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()));
-    let dir = made.and_then(|()| unpack_zip(path, dest)).map(|()| dest.to_path_buf());
+    let made = std::fs::create_dir_all(parent).map_err(|e| FileError::unwritable(parent, &e).into());
+    let dir = made.and_then(|()| Ok(unpack_zip(path, dest)?)).map(|()| dest.to_path_buf());
     Entry { student, dir, unpacked: true }
 }
 
@@ -156,7 +157,7 @@ pub fn grade_all(
     dirs: &[PathBuf],
     out: &Path,
     progress: &ProgressBar,
-) -> Result<Vec<Row>, String> {
+) -> Result<Vec<Row>, SubmissionError> {
     // The instructor's inputs first: a broken rubric or reference stops the class at once, not
     // as every student's "not graded".
     checked_rubric(instructor)?;
@@ -170,12 +171,15 @@ pub fn grade_all(
     for (done, entry) in submissions.into_iter().enumerate() {
         let student = entry.student;
         progress.set_message(format!("{student}{}", eta(done, total, started.elapsed())));
-        let graded = entry.dir.clone().and_then(|dir| grade_one(instructor, &dir, &work));
+        let graded = entry.dir.and_then(|dir| {
+            let graded = grade_one(instructor, &dir, &work);
+            if entry.unpacked {
+                let _ = std::fs::remove_dir_all(&dir);
+            }
+            graded
+        });
         let written = write_reports(&out.join(STUDENTS).join(&student), &graded);
-        let graded = written.and(graded);
-        if let (true, Ok(dir)) = (entry.unpacked, &entry.dir) {
-            let _ = std::fs::remove_dir_all(dir);
-        }
+        let graded = written.map_err(SubmissionError::from).and(graded);
         rows.push(Row { student, graded });
         progress.inc(1);
     }
@@ -186,7 +190,7 @@ pub fn grade_all(
 }
 
 /// One submission graded; a panic of the grader's own is that submission's error only.
-fn grade_one(instructor: &Path, dir: &Path, work: &Path) -> Result<SubmissionReport, String> {
+fn grade_one(instructor: &Path, dir: &Path, work: &Path) -> Result<SubmissionReport, SubmissionError> {
     let grading =
         std::panic::catch_unwind(|| grade_submission(instructor, dir, work, &ProgressBar::hidden()));
     grading.unwrap_or_else(|panic| {
@@ -194,24 +198,24 @@ fn grade_one(instructor: &Path, dir: &Path, work: &Path) -> Result<SubmissionRep
             .downcast_ref::<&str>()
             .map(|s| s.to_string())
             .or_else(|| panic.downcast_ref::<String>().cloned());
-        Err(format!("the grader failed on this submission: {}", message.unwrap_or_default()))
+        Err(SubmissionError::Panicked(message))
     })
 }
 
 /// A student's report.txt and results.json.
-fn write_reports(folder: &Path, graded: &Result<SubmissionReport, String>) -> Result<(), String> {
-    std::fs::create_dir_all(folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+fn write_reports(folder: &Path, graded: &Result<SubmissionReport, SubmissionError>) -> Result<(), FileError> {
+    std::fs::create_dir_all(folder).map_err(|e| FileError::unwritable(folder, &e))?;
     let report = match graded {
         Ok(g) => text(g),
         Err(e) => format!("could not be graded: {e}\n"),
     };
     write(&folder.join("report.txt"), &report)?;
-    let results = serde_json::to_string_pretty(&results_json(graded)).map_err(|e| e.to_string())?;
+    let results = serde_json::to_string_pretty(&results_json(graded)).expect("JSON values print");
     write(&folder.join("results.json"), &results)
 }
 
-fn write(path: &Path, text: &str) -> Result<(), String> {
-    write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+fn write(path: &Path, text: &str) -> Result<(), FileError> {
+    write_file_atomic(path, text.as_bytes()).map_err(|e| FileError::unwritable(path, &e))
 }
 
 /// `student,1,2,...,total,flags`: each checkpoint judged on its own.
@@ -250,7 +254,8 @@ pub fn csv(rows: &[Row]) -> String {
             }
             Err(e) => {
                 let empty = vec![""; ids.len()].join(",");
-                let _ = writeln!(out, "{quoted},{empty},,\"not graded: {}\"", e.replace('"', "'"));
+                let _ =
+                    writeln!(out, "{quoted},{empty},,\"not graded: {}\"", e.to_string().replace('"', "'"));
             }
         }
     }
@@ -345,7 +350,10 @@ mod tests {
     }
 
     fn folders(entries: &[Entry]) -> Vec<(String, Result<PathBuf, String>)> {
-        entries.iter().map(|e| (e.student.clone(), e.dir.clone())).collect()
+        entries
+            .iter()
+            .map(|e| (e.student.clone(), e.dir.as_ref().cloned().map_err(|e| e.to_string())))
+            .collect()
     }
 
     /// Folders, folders of folders, zips of either, and zips inside a folder (a student's upload),
@@ -403,7 +411,7 @@ mod tests {
         assert_eq!(names, ["submission", "_.hidden", "a_b_c", "alice", "alice-2", "grades.csv", "mallory"]);
         assert_eq!(unpacked_ok, [true, true, true, false, true, true, false], "{class:?}");
         assert!(
-            class[6].dir.as_ref().is_err_and(|e| e.contains("mallory.zip: cannot unpack")),
+            class[6].dir.as_ref().is_err_and(|e| e.to_string().contains("mallory.zip: cannot unpack")),
             "{:?}",
             class[6]
         );
@@ -411,11 +419,13 @@ mod tests {
 
     #[test]
     fn grader_keeps_a_row_for_a_submission_it_could_not_grade() {
-        let rows =
-            vec![Row { student: "mallory \"m\"".to_string(), graded: Err("not a folder".to_string()) }];
+        let rows = vec![Row {
+            student: "mallory \"m\"".to_string(),
+            graded: Err(SubmissionError::NotAFolder(PathBuf::from("m"))),
+        }];
         let table = csv(&rows);
         assert!(table.lines().nth(1).unwrap().starts_with("\"mallory \"\"m\"\"\","), "{table}");
-        assert!(table.contains("not graded: not a folder"));
+        assert!(table.contains("not graded: m: not a folder"), "{table}");
         assert!(class_page(&rows).contains("1 submissions, 0 graded"));
     }
 }

@@ -9,6 +9,7 @@
 //! checkpoint to blame.
 
 pub mod batch;
+mod error;
 pub mod scratch;
 pub mod splice;
 pub mod unpack;
@@ -18,6 +19,7 @@ use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
 
+use crate::file_error::FileError;
 use crate::grading::{checked_rubric, grade, GradeOptions};
 use crate::outcome::{Blame, CheckpointResult, GradeReport, Phases};
 use crate::plain::is_plain_dir;
@@ -33,6 +35,8 @@ use crate::submission::splice::{
     read_submission, write_spliced_tree, NotCompiling, Submission, Taken, STUDENT_ENV,
 };
 use crate::verdict::Reason;
+
+pub use error::SubmissionError;
 
 /// A graded submission.
 #[derive(Clone, Debug)]
@@ -59,9 +63,9 @@ pub fn grade_submission(
     dir: &Path,
     work: &Path,
     progress: &ProgressBar,
-) -> Result<SubmissionReport, String> {
+) -> Result<SubmissionReport, SubmissionError> {
     if !dir.is_dir() {
-        return Err(format!("{}: not a folder", dir.display()));
+        return Err(SubmissionError::NotAFolder(dir.to_path_buf()));
     }
     let dir = &submission_root(dir);
     if let Some(manifest) = starter_manifest(instructor)? {
@@ -94,7 +98,8 @@ pub fn grade_submission(
         progress.set_message(format!("checkpoint {id} on its own"));
         let report = grade(&with_students(&base, &[id], Some(vec![id]), Blame::Isolated), progress)?;
         phases += report.phases;
-        let mut result = report.checkpoints.into_iter().next().ok_or("the rubric lost a checkpoint")?;
+        let mut result =
+            report.checkpoints.into_iter().next().expect("a grade of one checkpoint has its row");
         // A rejected region's code never runs: the starter's stub stands in its place, so it
         // scores exactly what the stub scores there.
         if submission.rejected().contains(&id) {
@@ -133,7 +138,7 @@ fn build_what_compiles(
     submission: &mut Submission,
     tree: &Path,
     target: &Path,
-) -> Result<(), String> {
+) -> Result<(), FileError> {
     while let Err(error) = build_tests(tree, Some(target), BUILD_TIME_LIMIT) {
         let region = error.place().and_then(|(file, line)| submission.code_region_at(tree, file, line));
         if let (Some(taken), BuildError::Compile(compile)) = (region, &error) {
@@ -154,7 +159,7 @@ fn grade_own_tree(
     dir: &Path,
     manifest: &StarterManifest,
     progress: &ProgressBar,
-) -> Result<SubmissionReport, String> {
+) -> Result<SubmissionReport, SubmissionError> {
     let start = std::time::Instant::now();
     // The student's own rubric: here the allow list is a lint that explains the rules.
     let api = StudentApi::of(&Rubric::of_tree(root)?);
@@ -196,7 +201,7 @@ pub fn submission_root(dir: &Path) -> PathBuf {
 
 /// Gradescope's `results.json` for a submission: the grade (each checkpoint on its own) with the
 /// whole report as its output; for a submission that could not be graded, 0 and why.
-pub fn results_json(graded: &Result<SubmissionReport, String>) -> serde_json::Value {
+pub fn results_json(graded: &Result<SubmissionReport, SubmissionError>) -> serde_json::Value {
     match graded {
         Ok(g) => {
             let mut results = gradescope_json(&g.isolated);

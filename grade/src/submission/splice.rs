@@ -22,11 +22,12 @@ use std::path::{Path, PathBuf};
 
 use std::collections::BTreeMap;
 
+use crate::file_error::FileError;
 use crate::plain::{kind, read_text, FileKind, NotRead, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
 use crate::regions::allow::{check_region, StudentApi};
 use crate::regions::baseline::{ignored_files, Baseline};
-use crate::regions::lexer::line_at;
+use crate::regions::lexer::{line_at, LexError};
 use crate::regions::markers::{checkpoints_in, find_regions, Found, Region};
 use crate::regions::stub::{is_stub, region_bodies, region_function, stub_regions};
 use crate::run::build_error::CompileError;
@@ -56,11 +57,45 @@ pub enum Taken {
     /// Still the starter's stub.
     NotStarted,
     /// No region for this function in this file: why.
-    NotFound(String),
+    NotFound(Unfound),
     /// Code that failed the allow list: `file:line: reason`.
     Rejected(String),
     /// Code that does not compile, replaced by the stub so the rest can be graded.
     DoesNotCompile(NotCompiling),
+}
+
+/// Why a submission has no region for a function.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Unfound {
+    /// A folder on the way to the file is something else (a link): its path, and what it is.
+    NotPlain(PathBuf, &'static str),
+    /// The file is not there.
+    Missing(PathBuf),
+    /// The file is there but was not read (too large, not UTF-8, not a plain file).
+    NotRead(PathBuf, NotRead),
+    /// The file does not lex as Rust (a string or comment that never ends) at this line.
+    NotRust(PathBuf, usize, LexError),
+    /// The file has no region of this checkpoint in this function.
+    NoRegion(u32, String),
+}
+
+impl std::fmt::Display for Unfound {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Unfound::NotPlain(path, what) => {
+                write!(f, "{} is {what}: only plain files and folders are read", path.display())
+            }
+            Unfound::Missing(file) => write!(f, "{} is missing", file.display()),
+            Unfound::NotRead(file, why) => write!(f, "{}: {why}", file.display()),
+            Unfound::NotRust(file, line, e) => {
+                write!(f, "{}:{line}: {e}: the file cannot be read as Rust", file.display())
+            }
+            Unfound::NoRegion(checkpoint, function) => write!(
+                f,
+                "no `// BEGIN SOLUTION checkpoint{checkpoint}` region in `{function}`: were its markers moved, renamed or deleted?"
+            ),
+        }
+    }
 }
 
 /// Why a region's own code was replaced by its stub.
@@ -178,26 +213,25 @@ pub use crate::regions::baseline::HIDDEN_DIRS;
 
 /// A submission's region file: its text and regions, or why it gives none (missing, not a plain
 /// file, too large, not UTF-8, does not lex).
-fn submission_file(submission: &Path, file: &Path) -> Result<(String, Vec<Found>), String> {
-    let shown = file.display();
+fn submission_file(submission: &Path, file: &Path) -> Result<(String, Vec<Found>), Unfound> {
     let mut folder = submission.to_path_buf();
     for component in file.parent().into_iter().flat_map(Path::components) {
         folder.push(component);
         match kind(&folder) {
             Some(FileKind::Dir) => {}
             Some(FileKind::Other(what)) => {
-                let name = folder.strip_prefix(submission).unwrap_or(&folder).display().to_string();
-                return Err(format!("{name} is {what}: only plain files and folders are read"));
+                let name = folder.strip_prefix(submission).unwrap_or(&folder).to_path_buf();
+                return Err(Unfound::NotPlain(name, what));
             }
-            _ => return Err(format!("{shown} is missing")),
+            _ => return Err(Unfound::Missing(file.to_path_buf())),
         }
     }
     let text = read_text(&submission.join(file), MAX_FILE_BYTES).map_err(|why| match why {
-        NotRead::Missing => format!("{shown} is missing"),
-        _ => format!("{shown}: {why}"),
+        NotRead::Missing => Unfound::Missing(file.to_path_buf()),
+        _ => Unfound::NotRead(file.to_path_buf(), why),
     })?;
-    let found = find_regions(&text)
-        .map_err(|e| format!("{shown}:{}: {e}: the file cannot be read as Rust", line_at(&text, e.byte)))?;
+    let found =
+        find_regions(&text).map_err(|e| Unfound::NotRust(file.to_path_buf(), line_at(&text, e.byte), e))?;
     Ok((text, found))
 }
 
@@ -207,9 +241,9 @@ pub fn read_submission(
     baseline: &Baseline,
     submission: &Path,
     api: &StudentApi,
-) -> Result<Submission, String> {
+) -> Result<Submission, FileError> {
     let wanted = baseline.regions()?;
-    let mut files: BTreeMap<&Path, Result<(String, Vec<Found>), String>> = BTreeMap::new();
+    let mut files: BTreeMap<&Path, Result<(String, Vec<Found>), Unfound>> = BTreeMap::new();
     for region in &wanted {
         files.entry(&region.file).or_insert_with(|| submission_file(submission, &region.file));
     }
@@ -230,10 +264,7 @@ pub fn read_submission(
 fn take(region: &Region, text: &str, found: &[Found], api: &StudentApi) -> Taken {
     let Some(f) = found.iter().find(|f| f.checkpoint == region.checkpoint && f.function == region.function)
     else {
-        return Taken::NotFound(format!(
-            "no `// BEGIN SOLUTION checkpoint{}` region in `{}`: were its markers moved, renamed or deleted?",
-            region.checkpoint, region.function
-        ));
+        return Taken::NotFound(Unfound::NoRegion(region.checkpoint, region.function.clone()));
     };
     if is_stub(text, f.body.clone(), region.checkpoint) {
         return Taken::NotStarted;
@@ -255,7 +286,7 @@ fn take(region: &Region, text: &str, found: &[Found], api: &StudentApi) -> Taken
 /// (graded code never runs beside them), and without build output; every region holding the
 /// submission's body (or the stub) and the solution's, and the `graded` switch between them. Files that already hold the right
 /// text are left alone, so the next submission rebuilds only what differs.
-pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Path) -> Result<(), String> {
+pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Path) -> Result<(), FileError> {
     let mut files: Vec<&PathBuf> = submission.regions.iter().map(|(r, _)| &r.file).collect();
     files.dedup();
     // Written below: copying them first would touch them and make cargo rebuild every time.
@@ -267,14 +298,13 @@ pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Pat
         .chain(written.iter().map(String::as_str))
         .collect();
     if dest.is_dir() {
-        remove_stale(instructor, dest, Path::new("")).map_err(|e| format!("{}: {e}", dest.display()))?;
+        remove_stale(instructor, dest, Path::new("")).map_err(|e| FileError::unwritable(dest, &e))?;
     }
-    copy_tree(instructor, dest, &skip)
-        .map_err(|e| format!("copying {} to {}: {e}", instructor.display(), dest.display()))?;
+    copy_tree(instructor, dest, &skip).map_err(|e| FileError::unwritable(dest, &e))?;
     for file in files {
         let path = dest.join(file);
         let text =
-            std::fs::read_to_string(instructor.join(file)).map_err(|e| format!("{}: {e}", file.display()))?;
+            std::fs::read_to_string(instructor.join(file)).map_err(|e| FileError::unreadable(file, &e))?;
         // Every region's new body, for all checkpoints, applied from the end of the file so that
         // the ranges of the original text stay valid.
         let mut bodies: Vec<(std::ops::Range<usize>, String)> = Vec::new();
@@ -299,13 +329,16 @@ pub fn write_spliced_tree(instructor: &Path, submission: &Submission, dest: &Pat
         for (range, body) in bodies {
             out.replace_range(range, &body);
         }
-        write_if_changed(&path, out.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+        write_if_changed(&path, out.as_bytes()).map_err(|e| FileError::unwritable(&path, &e))?;
     }
-    let text = std::fs::read_to_string(instructor.join(LIB)).map_err(|e| format!("{LIB}: {e}"))?;
+    let lib = instructor.join(LIB);
+    let text = std::fs::read_to_string(&lib).map_err(|e| FileError::unreadable(&lib, &e))?;
     let text = format!("{text}\n#[doc(hidden)]\npub mod graded;\n");
-    write_if_changed(&dest.join(LIB), text.as_bytes()).map_err(|e| format!("{LIB}: {e}"))?;
-    write_if_changed(&dest.join("src/graded.rs"), GRADED_MODULE.as_bytes())
-        .map_err(|e| format!("src/graded.rs: {e}"))
+    let write = |path: PathBuf, text: &str| {
+        write_if_changed(&path, text.as_bytes()).map_err(|e| FileError::unwritable(&path, &e))
+    };
+    write(dest.join(LIB), &text)?;
+    write(dest.join("src/graded.rs"), GRADED_MODULE)
 }
 
 /// Removes the files of an earlier scratch tree that the instructor's tree no longer has (its

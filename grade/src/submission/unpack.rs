@@ -8,7 +8,7 @@
 //! behind, and its error names the entry.
 
 use std::io::{Read, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::plain::{kind, quote, FileKind};
 
@@ -22,61 +22,108 @@ pub const MAX_RATIO: u64 = 100;
 /// See [`MAX_RATIO`].
 pub const RATIO_FLOOR: u64 = 16 << 20;
 
+/// An archive that was not unpacked: which, and why.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: cannot unpack: {why}", .archive.display())]
+pub struct UnpackError {
+    /// The archive.
+    pub archive: PathBuf,
+    /// Why.
+    pub why: Refused,
+}
+
+/// Why an archive was not unpacked.
+#[derive(Debug, thiserror::Error)]
+pub enum Refused {
+    /// It is a link, a folder or a device.
+    #[error("not a plain file")]
+    NotPlain,
+    /// The system could not read it or write what it holds: the entry, if one.
+    #[error("{}{source}", entry.as_ref().map(|e| format!("`{e}`: ")).unwrap_or_default())]
+    Io {
+        /// The entry's name, quoted for a report.
+        entry: Option<String>,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The zip library could not read it, or one of its entries.
+    #[error("not a zip archive ({0})")]
+    NotZip(zip::result::ZipError),
+    /// More entries than [`MAX_ENTRIES`].
+    #[error("{0} entries, more than {MAX_ENTRIES}")]
+    TooManyEntries(usize),
+    /// An entry named by an absolute path or one that climbs out with `..`.
+    #[error("`{0}`: an absolute path or one that leaves the archive's folder")]
+    Escapes(String),
+    /// An entry that is a link.
+    #[error("`{0}`: a link; only files and folders are unpacked")]
+    Link(String),
+    /// More bytes unpacked than the budget for an archive of this size.
+    #[error(
+        "more than {} MiB unpacked from {} KiB (the limit: {MAX_RATIO} times the archive, at most {} MiB)",
+        .budget >> 20,
+        .size >> 10,
+        MAX_TOTAL_BYTES >> 20
+    )]
+    Bomb {
+        /// The bytes allowed.
+        budget: u64,
+        /// The archive's size.
+        size: u64,
+    },
+}
+
 /// Unpacks the zip at `archive` into `dest`, which must not exist yet; on any error `dest` is
 /// removed and the error names the archive and the entry.
-pub fn unpack_zip(archive: &Path, dest: &Path) -> Result<(), String> {
-    let shown = archive.display();
+pub fn unpack_zip(archive: &Path, dest: &Path) -> Result<(), UnpackError> {
     let result = unpack(archive, dest);
     if result.is_err() {
         let _ = std::fs::remove_dir_all(dest);
     }
-    result.map_err(|e| format!("{shown}: cannot unpack: {e}"))
+    result.map_err(|why| UnpackError { archive: archive.to_path_buf(), why })
 }
 
-fn unpack(archive: &Path, dest: &Path) -> Result<(), String> {
+/// A system error of `entry` (none: of the archive itself).
+fn io(entry: Option<&str>) -> impl FnOnce(std::io::Error) -> Refused + '_ {
+    move |source| Refused::Io { entry: entry.map(str::to_string), source }
+}
+
+fn unpack(archive: &Path, dest: &Path) -> Result<(), Refused> {
     if kind(archive) != Some(FileKind::File) {
-        return Err("not a plain file".to_string());
+        return Err(Refused::NotPlain);
     }
-    let file = std::fs::File::open(archive).map_err(|e| e.to_string())?;
-    let size = file.metadata().map_err(|e| e.to_string())?.len();
-    let mut zip = zip::ZipArchive::new(file).map_err(|e| format!("not a zip archive ({e})"))?;
+    let file = std::fs::File::open(archive).map_err(io(None))?;
+    let size = file.metadata().map_err(io(None))?.len();
+    let mut zip = zip::ZipArchive::new(file).map_err(Refused::NotZip)?;
     if zip.len() > MAX_ENTRIES {
-        return Err(format!("{} entries, more than {MAX_ENTRIES}", zip.len()));
+        return Err(Refused::TooManyEntries(zip.len()));
     }
     let budget = MAX_TOTAL_BYTES.min(RATIO_FLOOR.max(size.saturating_mul(MAX_RATIO)));
-    std::fs::create_dir(dest).map_err(|e| format!("{}: {e}", dest.display()))?;
+    std::fs::create_dir(dest).map_err(io(None))?;
     let mut written = 0u64;
     for i in 0..zip.len() {
-        let mut entry = zip.by_index(i).map_err(|e| format!("entry {i}: {e}"))?;
+        let mut entry = zip.by_index(i).map_err(Refused::NotZip)?;
         let name = quote(entry.name());
-        let Some(relative) = entry.enclosed_name() else {
-            return Err(format!("`{name}`: an absolute path or one that leaves the archive's folder"));
-        };
+        let Some(relative) = entry.enclosed_name() else { return Err(Refused::Escapes(name)) };
         if entry.is_symlink() {
-            return Err(format!("`{name}`: a link; only files and folders are unpacked"));
+            return Err(Refused::Link(name));
         }
+        let io = || io(Some(&name));
         let path = dest.join(relative);
         if entry.is_dir() {
-            std::fs::create_dir_all(&path).map_err(|e| format!("`{name}`: {e}"))?;
+            std::fs::create_dir_all(&path).map_err(io())?;
             continue;
         }
         if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| format!("`{name}`: {e}"))?;
+            std::fs::create_dir_all(parent).map_err(io())?;
         }
-        let mut out = std::fs::File::create_new(&path).map_err(|e| format!("`{name}`: {e}"))?;
+        let mut out = std::fs::File::create_new(&path).map_err(io())?;
         let left = budget - written;
-        let copied = std::io::copy(&mut (&mut entry).take(left + 1), &mut out)
-            .map_err(|e| format!("`{name}`: {e}"))?;
-        written += copied;
+        written += std::io::copy(&mut (&mut entry).take(left + 1), &mut out).map_err(io())?;
         if written > budget {
-            return Err(format!(
-                "more than {} MiB unpacked from {} KiB (the limit: {MAX_RATIO} times the archive, at most {} MiB)",
-                budget >> 20,
-                size >> 10,
-                MAX_TOTAL_BYTES >> 20
-            ));
+            return Err(Refused::Bomb { budget, size });
         }
-        out.flush().map_err(|e| format!("`{name}`: {e}"))?;
+        out.flush().map_err(io())?;
     }
     Ok(())
 }
@@ -147,7 +194,7 @@ mod tests {
             let archive = dir.join(format!("{name}.zip"));
             make(&archive);
             let dest = dir.join(name);
-            let error = unpack_zip(&archive, &dest).unwrap_err();
+            let error = unpack_zip(&archive, &dest).unwrap_err().to_string();
             assert!(error.contains(reason), "{name}: {error}");
             assert!(!dest.exists(), "{name}: left {}", dest.display());
         }

@@ -7,11 +7,14 @@ use std::process::ExitCode;
 
 use clap::Subcommand;
 use raylab_base::image_io::write_file_atomic;
+use raylab_grade::file_error::FileError;
 use raylab_grade::grading::checked_rubric;
 use raylab_grade::instructor::calibrate::Sweep;
 use raylab_grade::instructor::render_references::update_references;
 use raylab_grade::instructor::variants::{make_scratch_tree, VariantFile};
 use raylab_grade::rubric::Rubric;
+
+use crate::error::CliError;
 
 use raylab_grade::report::progress::progress_bar;
 
@@ -82,7 +85,7 @@ pub enum Command {
 }
 
 /// Runs one of the instructor's commands.
-pub fn run(command: Command) -> Result<ExitCode, String> {
+pub fn run(command: Command) -> Result<ExitCode, CliError> {
     match command {
         Command::UpdateReferences { root } => update(&root),
         Command::Calibrate { root, table, check, sweep, other_seeds } => {
@@ -95,16 +98,16 @@ pub fn run(command: Command) -> Result<ExitCode, String> {
     }
 }
 
-fn package(root: &Path, out: &Path) -> Result<ExitCode, String> {
+fn package(root: &Path, out: &Path) -> Result<ExitCode, CliError> {
     checked_rubric(root)?; // a broken rubric or reference is found here, not on Gradescope
     eprintln!("grader: packaging {} for Gradescope (cargo vendor may take a minute)", root.display());
     raylab_grade::instructor::package::gradescope(root, &root.join("target/package/gradescope"), out)?;
-    let size = std::fs::metadata(out).map_err(|e| format!("{}: {e}", out.display()))?.len();
+    let size = std::fs::metadata(out).map_err(|e| FileError::unreadable(out, &e))?.len();
     println!("{}: Gradescope autograder, {:.1} MB", out.display(), size as f64 / 1e6);
     Ok(ExitCode::SUCCESS)
 }
 
-fn update(root: &Path) -> Result<ExitCode, String> {
+fn update(root: &Path) -> Result<ExitCode, CliError> {
     let rubric = Rubric::of_tree(root)?;
     let progress = progress_bar(rubric.scenes.len() as u64);
     let manifest = update_references(root, &rubric, &progress);
@@ -121,7 +124,7 @@ fn calibrate(
     table: Option<&Path>,
     check: bool,
     sweep: Option<Sweep>,
-) -> Result<ExitCode, String> {
+) -> Result<ExitCode, CliError> {
     let rubric = checked_rubric(root)?;
     let progress = progress_bar(0);
     let runs = raylab_grade::instructor::calibrate::run_all(root, sweep, &progress);
@@ -149,10 +152,10 @@ fn calibrate(
     };
     let table = table.unwrap_or(Path::new(default_table));
     if let Some(dir) = table.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|e| FileError::unwritable(dir, &e))?;
     }
     write_file_atomic(table, format!("{header}{text}").as_bytes())
-        .map_err(|e| format!("{}: {e}", table.display()))?;
+        .map_err(|e| FileError::unwritable(table, &e))?;
     println!("{text}");
     let problems = raylab_grade::instructor::calibrate::verdicts(&runs, &rubric);
     for p in &problems {
@@ -161,12 +164,12 @@ fn calibrate(
     Ok(if check && !problems.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
-fn fingerprints(root: &Path, table: &Path) -> Result<ExitCode, String> {
+fn fingerprints(root: &Path, table: &Path) -> Result<ExitCode, CliError> {
     let progress = progress_bar(0);
     let made = raylab_grade::instructor::fingerprint_make::make(root, &progress);
     progress.finish_and_clear();
     let made = made?;
-    write_file_atomic(table, made.table.as_bytes()).map_err(|e| format!("{}: {e}", table.display()))?;
+    write_file_atomic(table, made.table.as_bytes()).map_err(|e| FileError::unwritable(table, &e))?;
     println!("{}", made.table);
     println!(
         "{}: {} fingerprints, margin {:.4}; the table is in {}",
@@ -178,11 +181,11 @@ fn fingerprints(root: &Path, table: &Path) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn make_variant(root: &Path, name: &str, out: &Path) -> Result<ExitCode, String> {
+fn make_variant(root: &Path, name: &str, out: &Path) -> Result<ExitCode, CliError> {
     let variants = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
-    let variant = variants.iter().find(|v| v.name == name).ok_or_else(|| {
-        let names: Vec<&str> = variants.iter().map(|v| v.name.as_str()).collect();
-        format!("checkpoints/variants.toml: no variant `{name}` (known: {})", names.join(", "))
+    let variant = variants.iter().find(|v| v.name == name).ok_or_else(|| CliError::UnknownVariant {
+        name: name.to_string(),
+        known: variants.iter().map(|v| v.name.clone()).collect(),
     })?;
     make_scratch_tree(root, out, variant)?;
     println!("{}: {} ({})", out.display(), variant.name, variant.description);

@@ -11,12 +11,15 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod error;
 #[cfg(feature = "instructor")]
 mod instructor;
 
 use clap::{Args, Parser, Subcommand};
+use error::CliError;
 use indicatif::ProgressBar;
 use raylab_base::image_io::write_file_atomic;
+use raylab_grade::file_error::FileError;
 use raylab_grade::grading::{grade, GradeOptions};
 use raylab_grade::images::{read_png, write_png};
 use raylab_grade::metrics::{worst_tile_error, TILE};
@@ -202,13 +205,12 @@ fn sandbox_check() -> ExitCode {
 /// measured first; a missing required one stops the command, any other is a warning
 /// ([`probe::Measured::required`]). Where the grader is root, the solution's source and the
 /// hidden files are closed to every other user first. A student grading their own tree is never refused.
-fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
+fn walled(root: &Path, no_sandbox: bool) -> Result<(), CliError> {
     if root.join(raylab_grade::regions::baseline::STARTER_MANIFEST).is_file() {
         return Ok(());
     }
     #[cfg(target_os = "linux")]
-    sandbox::user::close_instructor_only(root)
-        .map_err(|e| format!("cannot close the instructor's files: {e}"))?;
+    sandbox::user::close_instructor_only(root).map_err(CliError::CannotClose)?;
     let missing: Vec<probe::Measured> = probe::check().into_iter().filter(|w| !w.holds).collect();
     for wall in &missing {
         eprintln!("grader: sandbox: {}", wall.line);
@@ -222,14 +224,11 @@ fn walled(root: &Path, no_sandbox: bool) -> Result<(), String> {
             eprintln!("grader: --no-sandbox: grading with the walls this machine has");
             Ok(())
         }
-        (false, false) => Err(format!(
-            "this machine cannot wall graded code in ({}); see `grader sandbox --check`, or grade anyway with --no-sandbox",
-            required.join("; ")
-        )),
+        (false, false) => Err(CliError::Unwalled(required.iter().map(|l| l.to_string()).collect())),
     }
 }
 
-fn run_grade(args: GradeArgs) -> Result<ExitCode, String> {
+fn run_grade(args: GradeArgs) -> Result<ExitCode, CliError> {
     let scenes = (!args.scenes.is_empty()).then(|| {
         args.scenes
             .iter()
@@ -249,17 +248,17 @@ fn run_grade(args: GradeArgs) -> Result<ExitCode, String> {
     print!("{}", report::text(&report));
     if let Some(path) = &args.json {
         let text =
-            serde_json::to_string_pretty(&report::gradescope_json(&report)).map_err(|e| e.to_string())?;
-        write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+            serde_json::to_string_pretty(&report::gradescope_json(&report)).expect("JSON values print");
+        write_file_atomic(path, text.as_bytes()).map_err(|e| FileError::unwritable(path, &e))?;
     }
     if let Some(dir) = &args.out {
         report::write_images(&report, dir)?;
     }
     if let Some(dir) = &args.html {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|e| FileError::unwritable(dir, &e))?;
         let path = dir.join("index.html");
         write_file_atomic(&path, html::page(&report).as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(|e| FileError::unwritable(&path, &e))?;
         eprintln!("grader: report in {}", path.display());
     }
     Ok(if report.all_passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
@@ -270,7 +269,7 @@ fn submission(
     dir: &Path,
     work: Option<PathBuf>,
     json: Option<&Path>,
-) -> Result<ExitCode, String> {
+) -> Result<ExitCode, CliError> {
     let work = work.unwrap_or_else(|| root.join("target/grader-submission"));
     let progress = progress_bar(0);
     let graded = raylab_grade::submission::grade_submission(root, dir, &work, &progress);
@@ -278,15 +277,15 @@ fn submission(
     // Written whatever happened: a submission that cannot be graded gets 0 and why.
     if let Some(path) = json {
         let results = raylab_grade::submission::results_json(&graded);
-        let text = serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?;
-        write_file_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+        let text = serde_json::to_string_pretty(&results).expect("JSON values print");
+        write_file_atomic(path, text.as_bytes()).map_err(|e| FileError::unwritable(path, &e))?;
     }
     let graded = graded?;
     print!("{}", raylab_grade::submission::text(&graded));
     Ok(if graded.isolated.all_passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
-fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> {
+fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, CliError> {
     let progress = progress_bar(0);
     let rows = raylab_grade::submission::batch::grade_all(root, dirs, out, &progress);
     progress.finish_and_clear();
@@ -305,34 +304,37 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, String> 
     Ok(ExitCode::SUCCESS)
 }
 
-fn watch(root: &Path, from: u32) -> Result<ExitCode, String> {
+fn watch(root: &Path, from: u32) -> Result<ExitCode, CliError> {
     let rubric = raylab_grade::rubric::Rubric::of_tree(root)?;
     let ids: Vec<u32> = rubric.checkpoints.iter().map(|c| c.id).filter(|&id| id >= from).collect();
     let check = |ids: &[u32], stage| {
         let scenes = (stage == Stage::Tests).then(Vec::new);
         let options = GradeOptions { checkpoints: Some(ids.to_vec()), scenes, ..GradeOptions::new(root) };
-        Ok(grade(&options, &ProgressBar::hidden())?.checkpoints)
+        grade(&options, &ProgressBar::hidden()).map(|report| report.checkpoints)
     };
     let mut changes = raylab_grade::watch::Polling::new(&root.join("src"));
     let stamped = !std::io::stdout().is_terminal();
-    raylab_grade::watch::watch(&mut changes, check, &ids, stamped, &mut std::io::stdout())
-        .map_err(|e| format!("cannot write: {e}"))?;
+    raylab_grade::watch::watch(&mut changes, check, &ids, stamped, &mut std::io::stdout())?;
     Ok(ExitCode::SUCCESS)
 }
 
-fn compare(a: &Path, b: &Path, json: bool, heatmap_path: Option<&Path>) -> Result<ExitCode, String> {
-    let (ia, ib) = (read_png(a).map_err(|e| e.to_string())?, read_png(b).map_err(|e| e.to_string())?);
-    let ssim = SsimMap::new(&ia, &ib).map_err(|e| format!("{} and {}: {e}", a.display(), b.display()))?;
+fn compare(a: &Path, b: &Path, json: bool, heatmap_path: Option<&Path>) -> Result<ExitCode, CliError> {
+    let read = |path: &Path| read_png(path).map_err(|e| FileError::image(path, &e));
+    let (ia, ib) = (read(a)?, read(b)?);
+    let ssim = SsimMap::new(&ia, &ib).map_err(|mismatch| CliError::Incomparable {
+        a: a.to_path_buf(),
+        b: b.to_path_buf(),
+        mismatch,
+    })?;
     let rmse = {
         let sum: f64 =
             ia.as_raw().iter().zip(ib.as_raw()).map(|(x, y)| (*x as f64 - *y as f64).powi(2)).sum();
         (sum / ia.as_raw().len() as f64).sqrt()
     };
-    let simple = image_compare::rgb_similarity_structure(&image_compare::Algorithm::MSSIMSimple, &ia, &ib)
-        .map_err(|e| format!("image-compare: {e}"))?
-        .score;
+    let simple =
+        image_compare::rgb_similarity_structure(&image_compare::Algorithm::MSSIMSimple, &ia, &ib)?.score;
     if let Some(path) = heatmap_path {
-        write_png(path, &heatmap(&ssim, &ia)).map_err(|e| e.to_string())?;
+        write_png(path, &heatmap(&ssim, &ia)).map_err(|e| FileError::image(path, &e))?;
     }
     if json {
         let value = serde_json::json!({"ssim": ssim.mean(), "worst_tile_error": worst_tile_error(&ia, &ib), "rmse_8bit": rmse, "image_compare_mssim_simple": simple});
