@@ -4,7 +4,7 @@ use image::RgbImage;
 
 use crate::features::Masks;
 use crate::rubric::{Check, Mask, Metric, Threshold};
-use crate::ssim::SsimMap;
+use crate::ssim::{SizeMismatch, SsimMap};
 use raylab_base::image_io::srgb_to_linear;
 
 /// Side of the tiles of [`worst_tile_error`], in pixels.
@@ -29,8 +29,12 @@ pub struct Measured {
 
 impl<'a> Comparison<'a> {
     /// Compares `render` with `reference`; an error if their sizes differ.
-    pub fn new(render: &'a RgbImage, reference: &'a RgbImage, masks: &'a Masks) -> Result<Self, String> {
-        let ssim = SsimMap::new(render, reference).map_err(|e| format!("{e} (render vs reference)"))?;
+    pub fn new(
+        render: &'a RgbImage,
+        reference: &'a RgbImage,
+        masks: &'a Masks,
+    ) -> Result<Self, SizeMismatch> {
+        let ssim = SsimMap::new(render, reference)?;
         Ok(Self { render, reference, masks, ssim })
     }
 

@@ -464,7 +464,8 @@ fn score(
     reference: &RgbImage,
     masks: &Masks,
 ) -> Result<Scored, String> {
-    let comparison = Comparison::new(&render, reference, masks)?;
+    let comparison =
+        Comparison::new(&render, reference, masks).map_err(|e| format!("{e} (render vs reference)"))?;
     let checks = scene.checks.iter().map(|c| (c.clone(), comparison.measure(c))).collect();
     let ssim = comparison.ssim().clone();
     Ok((render, checks, ssim))

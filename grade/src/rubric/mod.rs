@@ -219,14 +219,19 @@ struct CheckFile {
     why: String,
 }
 
-impl TryFrom<CheckFile> for Check {
-    type Error = String;
+/// A check written with both bounds or neither: the metric it names.
+#[derive(Debug, thiserror::Error)]
+#[error("a {0:?} check needs exactly one of min or max")]
+pub struct NotOneBound(pub Metric);
 
-    fn try_from(c: CheckFile) -> Result<Check, String> {
+impl TryFrom<CheckFile> for Check {
+    type Error = NotOneBound;
+
+    fn try_from(c: CheckFile) -> Result<Check, NotOneBound> {
         let threshold = match (c.min, c.max) {
             (Some(min), None) => Threshold::AtLeast(min),
             (None, Some(max)) => Threshold::AtMost(max),
-            _ => return Err(format!("a {:?} check needs exactly one of min or max", c.metric)),
+            _ => return Err(NotOneBound(c.metric)),
         };
         Ok(Check { metric: c.metric, mask: c.mask, threshold, why: c.why })
     }

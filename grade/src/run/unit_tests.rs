@@ -1,8 +1,8 @@
 //! Running a checkpoint's unit tests and counting them by exit status, one process per test.
 //!
 //! The test binaries are built once (`cargo test --no-run`). Their test names come from
-//! `--list`, which runs no test code; then every test whose name contains the checkpoint's
-//! filter runs alone (`--exact NAME`) in its own process, and passes if and only if that process
+//! `--list`, which runs no test code; then every test under the checkpoint's filter
+//! ([`is_under`]: a module named by it, so `checkpoint1` never takes checkpoint 10's) runs alone (`--exact NAME`) in its own process, and passes if and only if that process
 //! exits with status 0 in time. Nothing a test prints is read for the count: a solution region
 //! printing `test result: ok. 40 passed` changes nothing.
 
@@ -128,7 +128,7 @@ impl TestBinaries {
         let mut tests: Vec<(&TestBinary, &String)> = self
             .binaries
             .iter()
-            .flat_map(|b| b.tests.iter().filter(|t| t.contains(filter)).map(move |t| (b, t)))
+            .flat_map(|b| b.tests.iter().filter(|t| is_under(t, filter)).map(move |t| (b, t)))
             .collect();
         let function = |name: &str| name.rsplit("::").next().unwrap_or(name).to_string();
         tests.sort_by_key(|(_, name)| first.iter().position(|f| *f == function(name)).unwrap_or(first.len()));
@@ -199,4 +199,30 @@ fn failure_message(run: &ChildRun, limit: Duration) -> String {
     let message =
         lines.iter().position(|l| l.contains("panicked at")).and_then(|i| lines.get(i + 1)).map(|l| quote(l));
     message.unwrap_or_else(|| run.failure_reason(limit))
+}
+
+/// Whether the test at `path` (`module::...::name`) is one of `filter`'s: a module on its path is
+/// named `filter`, or `filter_...` (`checkpoint1_environment`, `hidden3_aabb`). `cargo test
+/// checkpoint1` matches any name containing the text, checkpoint 10's tests too; the grade does
+/// not.
+pub fn is_under(path: &str, filter: &str) -> bool {
+    let modules = path.rsplit_once("::").map_or("", |(modules, _name)| modules);
+    modules
+        .split("::")
+        .any(|m| m.strip_prefix(filter).is_some_and(|rest| rest.is_empty() || rest.starts_with('_')))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_under;
+
+    #[test]
+    fn a_filter_takes_its_modules_and_no_longer_id() {
+        assert!(is_under("geometry::aabb::checkpoint3::a_box_is_hit", "checkpoint3"));
+        assert!(is_under("checkpoint1_environment::checkpoint1::scenes_load", "checkpoint1"));
+        assert!(is_under("hidden3_aabb::grazing_rays", "hidden3"));
+        assert!(!is_under("math::checkpoint10::reflect_mirrors", "checkpoint1"), "10 is not 1");
+        assert!(!is_under("geometry::checkpoint3", "checkpoint3"), "a test's own name is not a module");
+        assert!(!is_under("geometry::checkpoint3x::t", "checkpoint3"));
+    }
 }
