@@ -55,7 +55,7 @@ pub fn without(id: u32) -> Result<(), String> {
 }
 
 /// The files git tracks in `root`, copied to `to` (replaced).
-fn copy_tracked(root: &Path, to: &Path) -> Result<(), String> {
+pub(crate) fn copy_tracked(root: &Path, to: &Path) -> Result<(), String> {
     if to.exists() {
         std::fs::remove_dir_all(to).map_err(|e| format!("{}: {e}", to.display()))?;
     }
@@ -124,7 +124,7 @@ fn ends_a_region(text: &str, line: &str, regions: &[raylab_grade::regions::marke
 
 /// Stubs a copy of `tree`'s sources for the rubric's checkpoints `ids`, as the starter does, and
 /// checks that every region left is a stub and the `given` code (file, body) is still there.
-fn starter_keeps_only(
+pub(crate) fn starter_keeps_only(
     tree: &Path,
     ids: &[u32],
     given: &[(PathBuf, String)],

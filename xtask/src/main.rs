@@ -16,6 +16,7 @@
 mod catalogue;
 mod classroom;
 mod course;
+mod course_with;
 mod first_build;
 mod gradescope;
 mod handouts;
@@ -53,6 +54,9 @@ enum Command {
         /// The checkpoint the course skips.
         id: u32,
     },
+    /// A course that adds checkpoint 10 (mirror reflection), made from this tree with no change
+    /// to the grader: graded in full, its catalogue mistake costs it alone, its starter stubs it.
+    CourseWithExtra,
     /// For each checkpoint N from 2 to 7 stubbed alone: N's tests all fail, earlier ones pass.
     StubMatrix,
     /// Each crate's modules, folder by folder, bottom layer first; fails on a cycle between
@@ -93,6 +97,7 @@ fn main() -> ExitCode {
         }
         Command::StubMatrix => stub_matrix::stub_matrix(),
         Command::CourseWithout { id } => course::without(id),
+        Command::CourseWithExtra => course_with::with_extra(),
         Command::Layers => layers::layers(),
         Command::Zoo => zoo::zoo(),
         Command::StagePoints { mistakes } => stage_points::stage_points(&mistakes),

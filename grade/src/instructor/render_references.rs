@@ -95,36 +95,16 @@ pub fn update_references(
 ) -> Result<Manifest, InstructorError> {
     let mut manifest = Manifest::default();
     for scene in &rubric.scenes {
-        let dir = root.join(reference_dir(scene.hidden));
-        std::fs::create_dir_all(&dir).map_err(|e| FileError::unwritable(&dir, &e))?;
         progress.set_message(scene.name.clone());
-        let start = Instant::now();
-        let (loaded, film) = match &scene.tile_test {
-            None => render_scene(root, scene, scene.reference_spp, scene.seed, GRADED_TRACING)?,
-            Some(test) => render_tile_reference(root, scene, test)?,
-        };
-        let render_seconds = start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        // Timed as the grader's renders trace, through checkpoint 4's tree.
-        render_scene(root, scene, scene.spp, scene.seed, GRADED_TRACING)?;
-        let graded_render_seconds = start.elapsed().as_secs_f64();
-        let png = |path: PathBuf, image: &RgbImage| {
-            write_png(&path, image).map_err(|e| FileError::image(&path, &e))
-        };
-        png(image_path(root, scene), &film_to_image(&film))?;
-        let masks = render_masks(&GRADED_TRACING(&loaded));
-        png(masks_path(root, scene), masks.image())?;
-        manifest.references.push(ReferenceEntry {
-            name: scene.name.clone(),
-            inputs_hash: inputs_hash(&root.join(&scene.file))?,
-            spp: scene.reference_spp,
-            seed: scene.seed,
-            raylab_version: env!("CARGO_PKG_VERSION").to_string(),
-            render_seconds: (render_seconds * 1000.0).round() / 1000.0,
-            graded_render_seconds: (graded_render_seconds * 1000.0).round() / 1000.0,
-        });
+        manifest.references.push(render_reference(root, scene)?);
         progress.inc(1);
     }
+    write_manifests(root, rubric, &manifest)?;
+    Ok(manifest)
+}
+
+/// Writes `manifest` as the manifests of the rubric's public and hidden references.
+pub fn write_manifests(root: &Path, rubric: &Rubric, manifest: &Manifest) -> Result<(), InstructorError> {
     // Each folder's manifest lists its own scenes, so the starter's has no word of hidden ones.
     for hidden in [false, true] {
         let names: Vec<&str> =
@@ -146,7 +126,38 @@ pub fn update_references(
         write_file_atomic(&path, format!("{header}{text}").as_bytes())
             .map_err(|e| FileError::unwritable(&path, &e))?;
     }
-    Ok(manifest)
+    Ok(())
+}
+
+/// Renders the reference image and masks of one scene into its reference folder (and its tile
+/// means, if it is tile-tested): the manifest's entry for it.
+pub fn render_reference(root: &Path, scene: &GradedScene) -> Result<ReferenceEntry, InstructorError> {
+    let dir = root.join(reference_dir(scene.hidden));
+    std::fs::create_dir_all(&dir).map_err(|e| FileError::unwritable(&dir, &e))?;
+    let start = Instant::now();
+    let (loaded, film) = match &scene.tile_test {
+        None => render_scene(root, scene, scene.reference_spp, scene.seed, GRADED_TRACING)?,
+        Some(test) => render_tile_reference(root, scene, test)?,
+    };
+    let render_seconds = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    // Timed as the grader's renders trace, through checkpoint 4's tree.
+    render_scene(root, scene, scene.spp, scene.seed, GRADED_TRACING)?;
+    let graded_render_seconds = start.elapsed().as_secs_f64();
+    let png =
+        |path: PathBuf, image: &RgbImage| write_png(&path, image).map_err(|e| FileError::image(&path, &e));
+    png(image_path(root, scene), &film_to_image(&film))?;
+    let masks = render_masks(&GRADED_TRACING(&loaded));
+    png(masks_path(root, scene), masks.image())?;
+    Ok(ReferenceEntry {
+        name: scene.name.clone(),
+        inputs_hash: inputs_hash(&root.join(&scene.file))?,
+        spp: scene.reference_spp,
+        seed: scene.seed,
+        raylab_version: env!("CARGO_PKG_VERSION").to_string(),
+        render_seconds: (render_seconds * 1000.0).round() / 1000.0,
+        graded_render_seconds: (graded_render_seconds * 1000.0).round() / 1000.0,
+    })
 }
 
 /// The masks of the world's scene, from one ray through each pixel centre.
