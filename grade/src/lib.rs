@@ -23,6 +23,7 @@ pub mod regions;
 pub mod report;
 pub mod rubric;
 pub mod run;
+pub mod scene_failure;
 pub mod ssim;
 pub mod stats;
 pub mod submission;

@@ -10,6 +10,7 @@ use crate::metrics::Measured;
 use crate::noisy::NoisyVerdict;
 use crate::rubric::{Check, Checkpoint, GradedScene};
 use crate::run::unit_tests::TestRun;
+use crate::scene_failure::SceneFailure;
 use crate::ssim::SsimMap;
 use crate::verdict::{Advice, Kept, Reason};
 
@@ -31,7 +32,7 @@ pub struct SceneResult {
     /// Each check with its value; empty if the render failed.
     pub checks: Vec<(Check, Measured)>,
     /// Why the scene scored 0 without checks (crash, time limit, size mismatch).
-    pub error: Option<String>,
+    pub error: Option<SceneFailure>,
     /// Seconds the render took.
     pub seconds: f64,
     /// The student's render, if there is one.
@@ -249,7 +250,7 @@ impl GradeReport {
             let checks: serde_json::Map<String, serde_json::Value> = checks.collect();
             (
                 s.scene.name.clone(),
-                serde_json::json!({"error": s.error, "passed": s.passed(), "checks": checks}),
+                serde_json::json!({"error": s.error.as_ref().map(|e| e.to_string()), "passed": s.passed(), "checks": checks}),
             )
         });
         serde_json::Value::Object(scenes.collect())

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use crate::fingerprint::Naming;
 use crate::rubric::Check;
+use crate::scene_failure::SceneFailure;
 
 /// Which of a checkpoint's checks a reason is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -142,7 +143,7 @@ pub enum Kept {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Why {
     /// It could not be rendered or compared: what went wrong.
-    Error(String),
+    Error(SceneFailure),
     /// A hidden scene's checks failed: nothing more is said.
     Differs,
     /// These checks failed.

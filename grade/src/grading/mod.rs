@@ -31,7 +31,8 @@ use crate::rubric::{Check, Checkpoint, GradedScene, Rubric, TileTest};
 use crate::run::cargo::{build_renderer, BUILD_TIME_LIMIT};
 use crate::run::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
 use crate::run::unit_tests::{build_tests, TestRun};
-use crate::ssim::SsimMap;
+use crate::scene_failure::SceneFailure;
+use crate::ssim::{SizeMismatch, SsimMap};
 use raylab_base::film::Film;
 use raylab_base::image_io::read_pfm;
 
@@ -344,8 +345,8 @@ struct Render<'a> {
 impl Child<'_> {
     /// Renders `scene` at its graded spp with `seed` in a child process: the PNG it writes, and
     /// the linear film if `pfm`; with the seconds it took.
-    fn render(&self, scene: &GradedScene, seed: u64, pfm: bool) -> Result<(Rendered, f64), String> {
-        let own = OwnFolder::new().map_err(|e| format!("cannot make a folder for the render: {e}"))?;
+    fn render(&self, scene: &GradedScene, seed: u64, pfm: bool) -> Result<(Rendered, f64), SceneFailure> {
+        let own = OwnFolder::new().map_err(|e| SceneFailure::NoFolder(e.kind()))?;
         let (png, film) = (own.path().join("render.png"), own.path().join("render.pfm"));
         let mut command = Command::new(self.renderer);
         command
@@ -372,20 +373,17 @@ impl Child<'_> {
                 command.arg("--accel").arg("wide");
             }
         }
-        let run = run_graded(command, self.render.limit, &graded_reads(&self.code), &own)
-            .map_err(|e| format!("cannot start {}: {e}", self.renderer.display()))?;
+        let run = run_graded(command, self.render.limit, &graded_reads(&self.code), &own).map_err(|e| {
+            SceneFailure::CannotStart { renderer: self.renderer.to_path_buf(), kind: e.kind() }
+        })?;
         let rendered = if !run.success() {
-            // A hidden scene is reported by its fixed category only, never with its output.
-            let failure = run.failure(self.render.limit);
-            Err(if scene.hidden { failure.category.to_string() } else { failure.to_string() })
+            Err(SceneFailure::Failed(run.failure(self.render.limit)))
         } else if !png.exists() || (pfm && !film.exists()) {
-            Err("the renderer exited without writing an image".to_string())
+            Err(SceneFailure::NoImage)
         } else {
-            let image = read_png(&png).map_err(|e| match scene.hidden {
-                true => "wrote an image that cannot be read".to_string(),
-                false => e.to_string(),
-            });
-            let linear = if pfm { read_pfm(&film).map(Some).map_err(|e| e.to_string()) } else { Ok(None) };
+            let unreadable = |e: &dyn std::fmt::Display| SceneFailure::Unreadable(Some(e.to_string()));
+            let image = read_png(&png).map_err(|e| unreadable(&e));
+            let linear = if pfm { read_pfm(&film).map(Some).map_err(|e| unreadable(&e)) } else { Ok(None) };
             image.and_then(|image| Ok(Rendered { image, film: linear? }))
         };
         Ok((rendered?, run.seconds))
@@ -431,8 +429,7 @@ fn grade_scene(
     let renderer = match renderer {
         Ok(renderer) => renderer,
         Err(e) => {
-            let hidden = "the renderer does not build".to_string();
-            result.error = Some(if scene.hidden { hidden } else { e.clone() });
+            result.error = Some(shown(SceneFailure::NoRenderer(Some(e.clone())), &scene));
             return Ok(result);
         }
     };
@@ -451,9 +448,19 @@ fn grade_scene(
             result.checks = checks;
             result.ssim = Some(ssim);
         }
-        Err(e) => result.error = Some(e),
+        Err(e) => result.error = Some(shown(e, &result.scene)),
     }
     Ok(result)
+}
+
+/// `failure` as `scene` may show it: a hidden scene by its fixed words only, never with the
+/// student's output.
+fn shown(failure: SceneFailure, scene: &GradedScene) -> SceneFailure {
+    if scene.hidden {
+        failure.hidden()
+    } else {
+        failure
+    }
 }
 
 type Scored = (RgbImage, Vec<(Check, Measured)>, SsimMap);
@@ -463,9 +470,8 @@ fn score(
     render: RgbImage,
     reference: &RgbImage,
     masks: &Masks,
-) -> Result<Scored, String> {
-    let comparison =
-        Comparison::new(&render, reference, masks).map_err(|e| format!("{e} (render vs reference)"))?;
+) -> Result<Scored, SceneFailure> {
+    let comparison = Comparison::new(&render, reference, masks).map_err(SceneFailure::Size)?;
     let checks = scene.checks.iter().map(|c| (c.clone(), comparison.measure(c))).collect();
     let ssim = comparison.ssim().clone();
     Ok((render, checks, ssim))
@@ -481,7 +487,7 @@ fn tile_test(
     tiles: &NoisyReference,
     base: u64,
     progress: &ProgressBar,
-) -> Result<Scored, String> {
+) -> Result<Scored, SceneFailure> {
     let scene = &result.scene;
     let mut means = Vec::new();
     let mut mean: Option<Film> = None;
@@ -489,19 +495,19 @@ fn tile_test(
         progress.set_message(format!("rendering {} ({} of {})", scene.name, k + 1, test.renders));
         let (rendered, seconds) = child
             .render(scene, graded_seed(base, k), true)
-            .map_err(|e| format!("render {} of {}: {e}", k + 1, test.renders))?;
+            .map_err(|e| SceneFailure::RenderOf { k: k + 1, n: test.renders, failure: Box::new(e) })?;
         result.seconds += seconds;
         let film = rendered.film.expect("asked for the film");
         let (w, h) = result.reference.dimensions();
         if (film.width(), film.height()) != (w, h) {
-            return Err(format!("the render is {}x{}, the reference {w}x{h}", film.width(), film.height()));
+            return Err(SceneFailure::Size(SizeMismatch(film.width(), film.height(), w, h)));
         }
         means.push(tile_means(&film, test.tile));
         mean.get_or_insert_with(|| Film::new(w, h)).add_scaled(&film, 1.0 / test.renders as f32);
     }
     let verdict = compare(&means, tiles, test.alpha);
-    let render = film_to_image(&mean.ok_or("no render")?);
-    let ssim = SsimMap::new(&render, &result.reference).map_err(|e| format!("{e} (render vs reference)"))?;
+    let render = film_to_image(&mean.expect("a tile test has at least 2 renders (rubric rule)"));
+    let ssim = SsimMap::new(&render, &result.reference).map_err(SceneFailure::Size)?;
     let measured = [
         Measured { value: verdict.failures.len() as f64, passed: verdict.passed() },
         Measured { value: ssim.mean(), passed: true },

@@ -29,9 +29,9 @@ use std::collections::BTreeMap;
 
 use crate::noisy::tile_origin;
 use crate::outcome::{Blame, CheckpointResult, SceneResult, SceneStatus};
-use crate::regions::stub::stub_panic;
 use crate::rubric::{Checkpoint, GradedScene, Metric};
 use crate::run::unit_tests::TestRun;
+use crate::scene_failure::SceneFailure;
 use crate::verdict::{Advice, FailedCheck, Kept, Loss, Part, Reason, Why};
 
 /// Each tested checkpoint's unit-test runs, by id: its public tests, and its hidden ones if it
@@ -75,7 +75,7 @@ impl Context<'_> {
     /// The checkpoint not written yet whose stub stopped the scene's render, if that is why it
     /// failed (never in an isolated grade, where the others are the solution's).
     pub fn stopped_at(&self, s: &SceneResult) -> Option<u32> {
-        let k = stub_panic(s.error.as_deref()?)?;
+        let k = s.error.as_ref()?.stub_panic()?;
         (self.blame == Blame::Culprit && self.not_started(k)).then_some(k)
     }
 
@@ -140,7 +140,7 @@ fn judge(s: &SceneResult, id: u32, context: &Context) -> Judged {
 /// yet, in place of the stub's panic.
 pub fn explain_stub_stop(s: &mut SceneResult, context: &Context) {
     if let Some(k) = context.stopped_at(s) {
-        s.error = Some(format!("the scene could not run: checkpoint {k} is not written yet"));
+        s.error = Some(SceneFailure::NotWritten(k));
     }
 }
 
@@ -336,6 +336,7 @@ mod tests {
     use crate::outcome::SceneStatus;
     use crate::report::reasons::{advice_line, kept_text, reason_lines};
     use crate::rubric::Rubric;
+    use crate::run::child::{Category, Failure};
     use image::RgbImage;
     use std::path::{Path, PathBuf};
 
@@ -352,7 +353,7 @@ mod tests {
         SceneResult {
             scene: rubric.scenes.iter().find(|s| s.name == name).unwrap().clone(),
             checks: Vec::new(),
-            error: Some("render differs".to_string()),
+            error: Some(SceneFailure::NoImage),
             seconds: 0.0,
             render: None,
             reference: RgbImage::new(1, 1),
@@ -518,9 +519,10 @@ mod tests {
 
     /// A scene that stops in checkpoint `k`'s stub, as the render child reports it, explained.
     fn stopped_in_the_stub_of(rubric: &Rubric, name: &str, k: u32, context: &Context) -> SceneResult {
-        let error =
-            format!("panicked: not yet implemented: checkpoint {k}: write `object_median_split`: Splits");
-        let mut scene = SceneResult { error: Some(error), ..failed_scene(rubric, name) };
+        let detail = format!("not yet implemented: checkpoint {k}: write `object_median_split`: Splits");
+        let panic = Failure { category: Category::Panicked, detail: Some(detail) };
+        let mut scene =
+            SceneResult { error: Some(SceneFailure::Failed(panic)), ..failed_scene(rubric, name) };
         explain_stub_stop(&mut scene, context);
         scene
     }
@@ -581,7 +583,7 @@ mod tests {
         assert!(two.advice.is_some());
         // A stub's words panicked by a checkpoint that is written are its own error.
         let written = stopped_in_the_stub_of(&rubric, "intersection_test", 2, &context);
-        assert!(written.error.unwrap().starts_with("panicked: not yet implemented"));
+        assert!(written.error.unwrap().to_string().starts_with("panicked: not yet implemented"));
     }
 
     /// Checkpoint 5's tests, three of which stop in checkpoint 4's stub: with checkpoint 4 not

@@ -149,7 +149,7 @@ fn render(
             let report = grade_report(&tree, &target, seed, Some(scenes), variant.checkpoint >= 5)?;
             for s in report.scenes {
                 let Some(render) = s.render else {
-                    let why = s.error.unwrap_or_default();
+                    let why = s.error.map(|e| e.to_string()).unwrap_or_default();
                     unrendered.push(format!("{} on {} (seed {seed:?}): {why}", variant.name, s.scene.name));
                     continue;
                 };

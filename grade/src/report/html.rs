@@ -84,7 +84,7 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
             let _ = writeln!(h, "<p class=\"wait\">{}</p>", escape(&kept_text(kept)));
         }
         (_, Some(e)) => {
-            let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(e));
+            let _ = writeln!(h, "<p class=\"fail\">{}</p>", escape(&e.to_string()));
         }
         _ => {}
     }

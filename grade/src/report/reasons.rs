@@ -92,7 +92,7 @@ pub fn kept_text(kept: &Kept) -> String {
 /// that failed.
 fn why_text(why: &Why) -> String {
     match why {
-        Why::Error(error) => error.clone(),
+        Why::Error(error) => error.to_string(),
         Why::Differs => "the image differs from the reference".to_string(),
         Why::Checks(checks) => checks.iter().map(failed_check_text).collect::<Vec<_>>().join(", "),
     }
