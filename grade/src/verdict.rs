@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use crate::fingerprint::Naming;
 use crate::rubric::Check;
+use crate::run::unit_tests::TestsFailure;
 use crate::scene_failure::SceneFailure;
 
 /// Which of a checkpoint's checks a reason is about.
@@ -44,7 +45,7 @@ pub enum Reason {
         /// Public or hidden tests.
         part: Part,
         /// What went wrong.
-        error: String,
+        error: TestsFailure,
     },
     /// Tests failed.
     TestsFailed {

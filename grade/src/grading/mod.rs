@@ -30,7 +30,7 @@ use crate::regions::stub::stubbed_checkpoints;
 use crate::rubric::{Check, Checkpoint, GradedScene, Rubric, TileTest};
 use crate::run::cargo::{build_renderer, BUILD_TIME_LIMIT};
 use crate::run::child::{graded_reads, run_graded, OwnFolder, CHILD_ENV};
-use crate::run::unit_tests::{build_tests, TestRun};
+use crate::run::unit_tests::{build_tests, TestRun, TestsFailure};
 use crate::scene_failure::SceneFailure;
 use crate::ssim::{SizeMismatch, SsimMap};
 use raylab_base::film::Film;
@@ -311,7 +311,7 @@ fn run_unit_tests(
     let start = Instant::now();
     let run = |filter: &str, first: &[String]| match &built {
         Ok(binaries) => binaries.run_filter(code, filter, first, env, TEST_TIME_LIMIT),
-        Err(e) => TestRun { error: Some(format!("the tests do not compile: {e}")), ..TestRun::default() },
+        Err(e) => TestRun { error: Some(TestsFailure::NoBuild(e.to_string())), ..TestRun::default() },
     };
     let mut runs = TestRuns::default();
     for c in checkpoints {

@@ -26,7 +26,7 @@ pub struct TestRun {
     /// Names of the failing tests.
     pub failures: Vec<String>,
     /// Why the run itself went wrong (no compile, no test binary, time limit), if it did.
-    pub error: Option<String>,
+    pub error: Option<TestsFailure>,
     /// The first failing test and what it said (for a student: where to look first).
     pub first_failure: Option<(String, String)>,
     /// The failing tests that stopped in a stub's `todo!()`, with the stub's checkpoint, as
@@ -34,11 +34,36 @@ pub struct TestRun {
     pub stub_panics: Vec<(String, u32)>,
 }
 
+/// Why a run of tests counted nothing.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TestsFailure {
+    /// The tests do not build: what the build said ([`BuildError`]'s words).
+    #[error("the tests do not compile: {0}")]
+    NoBuild(String),
+    /// The tests of one checkpoint ran out of their time together.
+    #[error("the tests took longer than {:.0} s in all", .0.as_secs_f64())]
+    OutOfTime(Duration),
+    /// The grader could not make a test's own folder (its machine, not the student's code).
+    #[error("cannot make a folder for a test: {0}")]
+    NoFolder(std::io::ErrorKind),
+    /// A test binary could not be started.
+    #[error("cannot run {}: {kind}", .program.display())]
+    CannotStart {
+        /// The test binary.
+        program: PathBuf,
+        /// What the system said.
+        kind: std::io::ErrorKind,
+    },
+    /// Hidden tests that could not run: nothing more is said of them.
+    #[error("the hidden tests could not run")]
+    Hidden,
+}
+
 impl TestRun {
     /// This run as a hidden check may be reported: the counts and the failing tests' names, no
     /// text a test or the compiler wrote.
     pub fn hidden(self) -> TestRun {
-        let error = self.error.map(|_| "the hidden tests could not run".to_string());
+        let error = self.error.map(|_| TestsFailure::Hidden);
         TestRun { error, first_failure: None, stub_panics: Vec::new(), ..self }
     }
 
@@ -140,8 +165,7 @@ impl TestBinaries {
             }
             let left = limit.saturating_sub(start.elapsed());
             if left.is_zero() {
-                result.error =
-                    Some(format!("the tests took longer than {:.0} s in all", limit.as_secs_f64()));
+                result.error = Some(TestsFailure::OutOfTime(limit));
                 return result;
             }
             let this_limit = left.min(TEST_TIME_LIMIT);
@@ -165,13 +189,13 @@ impl TestBinary {
         root: &Path,
         env: &[(String, String)],
         limit: Duration,
-    ) -> Result<ChildRun, String> {
+    ) -> Result<ChildRun, TestsFailure> {
         let mut command = Command::new(&self.executable);
         command.current_dir(root).env(CHILD_ENV, "1").envs(env.iter().map(|(k, v)| (k, v)));
         command.args(["--exact", name, "--test-threads", "1"]);
-        let own = OwnFolder::new().map_err(|e| format!("cannot make a folder for a test: {e}"))?;
+        let own = OwnFolder::new().map_err(|e| TestsFailure::NoFolder(e.kind()))?;
         run_graded(command, limit, &graded_reads(root), &own)
-            .map_err(|e| format!("cannot run {}: {e}", self.executable.display()))
+            .map_err(|e| TestsFailure::CannotStart { program: self.executable.clone(), kind: e.kind() })
     }
 }
 
