@@ -12,8 +12,8 @@ use crate::ssim::SizeMismatch;
 /// Why a scene has no score.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SceneFailure {
-    /// The renderer does not build: the compiler's words (none for a hidden scene).
-    #[error("{}", .0.as_deref().unwrap_or("the renderer does not build"))]
+    /// The renderer does not build: what the build said (nothing for a hidden scene).
+    #[error("the renderer does not build{}", .0.as_ref().map(|w| format!(": {w}")).unwrap_or_default())]
     NoRenderer(Option<String>),
     /// The grader could not make the render's own folder (its machine, not the student's code).
     #[error("cannot make a folder for the render: {0}")]

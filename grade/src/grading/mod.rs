@@ -156,12 +156,12 @@ fn render_scenes(
 ) -> Result<Vec<SceneResult>, GradeError> {
     let code = options.code.as_deref().unwrap_or(&options.root);
     let renderer = if plan.scenes.is_empty() {
-        Err("no scene to render".to_string()) // tests only: nothing to build
+        Err(SceneFailure::NoRenderer(None)) // tests only: nothing to build, nothing said
     } else {
         progress.set_message("building the renderer");
         let built = Instant::now();
         let renderer = build_renderer(code, options.target.as_deref())
-            .map_err(|e| format!("the renderer does not build: {e}"));
+            .map_err(|e| SceneFailure::NoRenderer(Some(e.to_string())));
         phases.build += built.elapsed().as_secs_f64();
         renderer
     };
@@ -399,7 +399,7 @@ struct Rendered {
 /// Renders one scene with the tree's `renderer` in child processes and scores it.
 fn grade_scene(
     options: &GradeOptions,
-    renderer: Result<&Path, &String>,
+    renderer: Result<&Path, &SceneFailure>,
     scene: GradedScene,
     render: Render,
     progress: &ProgressBar,
@@ -429,7 +429,7 @@ fn grade_scene(
     let renderer = match renderer {
         Ok(renderer) => renderer,
         Err(e) => {
-            result.error = Some(shown(SceneFailure::NoRenderer(Some(e.clone())), &scene));
+            result.error = Some(shown(e.clone(), &scene));
             return Ok(result);
         }
     };
