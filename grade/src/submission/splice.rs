@@ -25,7 +25,7 @@ use std::collections::BTreeMap;
 use crate::file_error::FileError;
 use crate::plain::{kind, read_text, FileKind, NotRead, MAX_FILE_BYTES};
 use crate::reference::REFERENCE_DIRS;
-use crate::regions::allow::{check_region, StudentApi};
+use crate::regions::allow::{check_region, Refusal, StudentApi};
 use crate::regions::baseline::{ignored_files, Baseline};
 use crate::regions::lexer::{line_at, LexError};
 use crate::regions::markers::{checkpoints_in, find_regions, Found, Region};
@@ -58,8 +58,13 @@ pub enum Taken {
     NotStarted,
     /// No region for this function in this file: why.
     NotFound(Unfound),
-    /// Code that failed the allow list: `file:line: reason`.
-    Rejected(String),
+    /// Code that failed the allow list: the first thing refused, at its line in the file.
+    Rejected {
+        /// The line in the file, from 1.
+        line: usize,
+        /// What was refused.
+        reason: Refusal,
+    },
     /// Code that does not compile, replaced by the stub so the rest can be graded.
     DoesNotCompile(NotCompiling),
 }
@@ -148,7 +153,7 @@ impl Submission {
         let mut ids: Vec<u32> = self
             .regions
             .iter()
-            .filter(|(_, t)| matches!(t, Taken::Rejected(_)))
+            .filter(|(_, t)| matches!(t, Taken::Rejected { .. }))
             .map(|(r, _)| r.checkpoint)
             .collect();
         ids.sort();
@@ -171,7 +176,9 @@ impl Region {
             Taken::Code(_) => format!("{what}: your code, taken"),
             Taken::NotStarted => format!("{what}: still the starter's stub"),
             Taken::NotFound(why) => format!("{what}: not found, counts as not done: {why}"),
-            Taken::Rejected(why) => format!("{what}: rejected, graded as not written: {why}"),
+            Taken::Rejected { line, reason } => {
+                format!("{what}: rejected, graded as not written: {}:{line}: {reason}", self.file.display())
+            }
             Taken::DoesNotCompile(why) => format!("{what}: does not compile, graded as not done: {why}"),
         }
     }
@@ -275,10 +282,10 @@ fn take(region: &Region, text: &str, found: &[Found], api: &StudentApi) -> Taken
     }
     match check_region(body, region.checkpoint, &api.modules(region.checkpoint)) {
         Ok(()) => Taken::Code(body.to_string()),
-        Err(rejection) => {
-            let line = line_at(text, f.body.start) - 1 + rejection.line;
-            Taken::Rejected(format!("{}:{line}: {}", region.file.display(), rejection.reason))
-        }
+        Err(rejection) => Taken::Rejected {
+            line: line_at(text, f.body.start) - 1 + rejection.line,
+            reason: rejection.reason,
+        },
     }
 }
 
@@ -464,7 +471,7 @@ mod tests {
             write_spliced_tree(&ours, &submission, &dest).unwrap();
             std::fs::read_to_string(dest.join("src/a.rs")).unwrap()
         };
-        let rejected = spliced(Taken::Rejected("src/a.rs:3: not allowed".to_string()));
+        let rejected = spliced(Taken::Rejected { line: 3, reason: Refusal::Unsafe });
         let stub = spliced(Taken::NotStarted);
         std::fs::remove_dir_all(&dir).unwrap();
         assert_eq!(rejected, stub);

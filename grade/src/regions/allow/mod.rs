@@ -31,6 +31,7 @@
 //! (`#![deny(unsafe_code)]` in the renderer, privacy) and the operating system are the others.
 
 mod lists;
+mod refusal;
 #[cfg(test)]
 mod tests;
 
@@ -38,6 +39,7 @@ use std::collections::BTreeSet;
 
 pub use lists::*;
 use proc_macro2::{Span, TokenStream};
+pub use refusal::Refusal;
 use syn::parse::Parser;
 use syn::punctuated::Punctuated;
 use syn::visit::Visit;
@@ -50,40 +52,27 @@ use crate::regions::lexer::{line_at, nesting, tokens, Kind};
 pub struct Rejection {
     /// Line within the region body, from 1.
     pub line: usize,
-    /// One line.
-    pub reason: String,
+    /// What was refused.
+    pub reason: Refusal,
 }
 
 /// Checks a region body (the statements of a function body) of `checkpoint`, which may name the
 /// renderer's `modules`.
 pub fn check_region(body: &str, checkpoint: u32, modules: &[&str]) -> Result<(), Rejection> {
-    let at = |line: usize, reason: String| Rejection { line, reason };
+    let at = |line: usize, reason: Refusal| Rejection { line, reason };
     if body.len() > MAX_REGION_BYTES {
-        let reason =
-            format!("longer than {} KiB: a solution region is a function body", MAX_REGION_BYTES / 1024);
-        return Err(at(1, reason));
+        return Err(at(1, Refusal::TooLong));
     }
-    let tokens = tokens(body).map_err(|e| at(line_at(body, e.byte), format!("does not parse: {e}")))?;
+    let tokens = tokens(body).map_err(|e| at(line_at(body, e.byte), Refusal::DoesNotParse(e.to_string())))?;
     if let Some(raw) =
         tokens.iter().find(|t| t.kind == Kind::Ident && body[t.range.clone()].starts_with("r#"))
     {
-        let name = &body[raw.range.clone()];
-        return Err(at(
-            line_at(body, raw.range.start),
-            format!(
-                "`{name}`: raw identifiers are not allowed in solutions (rustc reads it as `{}`)",
-                &name[2..]
-            ),
-        ));
+        let name = body[raw.range.clone()].to_string();
+        return Err(at(line_at(body, raw.range.start), Refusal::RawIdentifier(name)));
     }
     match nesting(&tokens) {
-        (_, false) => return Err(at(1, "does not parse: its brackets do not match".to_string())),
-        (depth, _) if depth > MAX_NESTING => {
-            return Err(at(
-                1,
-                format!("brackets nested {depth} deep, more than {MAX_NESTING}: split the code up"),
-            ))
-        }
+        (_, false) => return Err(at(1, Refusal::Unbalanced)),
+        (depth, _) if depth > MAX_NESTING => return Err(at(1, Refusal::TooDeep(depth))),
         _ => {}
     }
     // syn recurses on nested syntax (and so does dropping the tree): a stack of its own.
@@ -93,7 +82,7 @@ pub fn check_region(body: &str, checkpoint: u32, modules: &[&str]) -> Result<(),
             .spawn_scoped(scope, || check_parsed(body, checkpoint, modules));
         match checking.map(|thread| thread.join()) {
             Ok(Ok(verdict)) => verdict,
-            _ => Err(at(1, "could not be checked".to_string())),
+            _ => Err(at(1, Refusal::Unchecked)),
         }
     })
 }
@@ -101,7 +90,7 @@ pub fn check_region(body: &str, checkpoint: u32, modules: &[&str]) -> Result<(),
 fn check_parsed(body: &str, checkpoint: u32, modules: &[&str]) -> Result<(), Rejection> {
     // The body is parsed as a block; "{\n" shifts every line by one.
     let block: syn::Block = syn::parse_str(&format!("{{\n{body}\n}}"))
-        .map_err(|e| Rejection { line: line_of(e.span()), reason: format!("does not parse: {e}") })?;
+        .map_err(|e| Rejection { line: line_of(e.span()), reason: Refusal::DoesNotParse(e.to_string()) })?;
     let mut declared = Declared::default();
     declared.visit_block(&block);
     let mut checker = Checker::new(checkpoint, modules, declared);
@@ -158,7 +147,7 @@ impl<'a> Checker<'a> {
         Checker { found: None, modules, checkpoint, declared, numbers: 0, text: 0 }
     }
 
-    fn reject(&mut self, span: Span, reason: String) {
+    fn reject(&mut self, span: Span, reason: Refusal) {
         if self.found.is_none() {
             self.found = Some(Rejection { line: line_of(span), reason });
         }
@@ -167,13 +156,8 @@ impl<'a> Checker<'a> {
     /// The data limits, once every literal has been counted.
     fn finish(&mut self) {
         if self.found.is_none() && (self.numbers > MAX_NUMBERS || self.text > MAX_TEXT) {
-            self.found = Some(Rejection {
-                line: 1,
-                reason: format!(
-                    "{} numbers and {} bytes of text, more than {MAX_NUMBERS} or {MAX_TEXT}: a solution computes, it does not embed data",
-                    self.numbers, self.text
-                ),
-            });
+            let reason = Refusal::TooMuchData { numbers: self.numbers, text: self.text };
+            self.found = Some(Rejection { line: 1, reason });
         }
     }
 
@@ -184,28 +168,27 @@ impl<'a> Checker<'a> {
         // variable `load`); through a path it is the harness's item.
         let harness = segments.iter().find(|s| HARNESS_NAMES.contains(&s.as_str()));
         if let Some(name) = harness.filter(|_| segments.len() > 1) {
-            return self.reject(span, format!("`{text}`: `{name}` is the harness's, not for solutions"));
+            return self.reject(span, Refusal::Harness { path: text, name: name.clone() });
         }
         let (Some(first), second) = (segments.first(), segments.get(1)) else { return };
         let reason = match first.as_str() {
             "std" | "core" | "alloc" => match second {
                 Some(m) if STD_MODULES.contains(&m.as_str()) => return,
-                _ => format!("`{text}`: only maths, collections and language items of std may be used"),
+                _ => Refusal::StdModule(text),
             },
             "crate" => match second {
                 Some(m) if self.modules.contains(&m.as_str()) => return,
-                Some(m) if ALL_STUDENT_MODULES.contains(&m.as_str()) => format!(
-                    "`{text}`: checkpoint {} works with crate::{{{}}}, not `{m}`",
-                    self.checkpoint,
-                    self.modules.join(", ")
-                ),
-                _ => format!("`{text}`: not part of the student API"),
+                Some(m) if ALL_STUDENT_MODULES.contains(&m.as_str()) => Refusal::OtherCheckpointModule {
+                    path: text,
+                    checkpoint: self.checkpoint,
+                    modules: self.modules.iter().map(|m| m.to_string()).collect(),
+                    module: m.clone(),
+                },
+                _ => Refusal::NotStudentApi(text),
             },
-            "self" | "super" if segments.len() > 1 => {
-                format!("`{text}`: use the names imported outside the region, or a `crate::` path")
-            }
+            "self" | "super" if segments.len() > 1 => Refusal::SelfOrSuper(text),
             c if OTHER_CRATES.contains(&c) && segments.len() > 1 => {
-                format!("`{text}`: the crate `{c}` is not for solutions")
+                Refusal::OtherCrate { path: text, krate: c.to_string() }
             }
             _ => return,
         };
@@ -235,12 +218,9 @@ impl<'a> Checker<'a> {
             syn::UseTree::Name(n) => self.check_full(prefix, n.ident.to_string(), n.ident.span()),
             syn::UseTree::Rename(r) => self.reject(
                 r.as_token.span,
-                format!("`use ... {} as {}`: name things by their own names in solutions", r.ident, r.rename),
+                Refusal::UseAs { name: r.ident.to_string(), rename: r.rename.to_string() },
             ),
-            syn::UseTree::Glob(g) => self.reject(
-                g.star_token.span,
-                format!("`use {}::*`: import the names you need one by one", prefix.join("::")),
-            ),
+            syn::UseTree::Glob(g) => self.reject(g.star_token.span, Refusal::Glob(prefix.join("::"))),
             syn::UseTree::Group(g) => g.items.iter().for_each(|t| self.check_use(prefix, t)),
         }
     }
@@ -252,7 +232,7 @@ impl<'a> Checker<'a> {
         if segments.len() == 1
             && ["std", "core", "alloc"].iter().chain(OTHER_CRATES).any(|c| *c == segments[0])
         {
-            return self.reject(span, format!("`use {}`: name the items, not the crate", segments[0]));
+            return self.reject(span, Refusal::WholeCrate(segments[0].clone()));
         }
         self.check_segments(span, &segments);
     }
@@ -262,20 +242,16 @@ impl<'a> Checker<'a> {
         let segments = names(&mac.path);
         let name = segments.last().cloned().unwrap_or_default();
         if segments.len() == 1 && self.declared.imported.contains(&name) {
-            return self.reject(
-                span,
-                format!("`{name}!` was brought in by a `use`: call macros by their own names"),
-            );
+            return self.reject(span, Refusal::ImportedMacro(name));
         }
         let qualified_ok =
             segments.len() == 1 || (segments.len() == 2 && ["std", "core"].contains(&segments[0].as_str()));
         if !MACROS.contains(&name.as_str()) || !qualified_ok {
-            return self
-                .reject(span, format!("the macro `{}!` is not allowed in solutions", segments.join("::")));
+            return self.reject(span, Refusal::Macro(segments.join("::")));
         }
         match parse_macro_arguments(&name, mac.tokens.clone()) {
             Some(arguments) => arguments.iter().for_each(|a| self.visit_macro_argument(a)),
-            None => self.reject(span, format!("the arguments of `{name}!` could not be checked")),
+            None => self.reject(span, Refusal::MacroArguments(name)),
         }
     }
 
@@ -299,7 +275,9 @@ impl<'a> Checker<'a> {
         };
         let verdict = match (name.as_str(), &attribute.meta) {
             ("inline" | "must_use", syn::Meta::Path(_)) => Ok(()),
-            ("inline", syn::Meta::List(list)) if ["always", "never"].contains(&list.tokens.to_string().as_str()) => {
+            ("inline", syn::Meta::List(list))
+                if ["always", "never"].contains(&list.tokens.to_string().as_str()) =>
+            {
                 Ok(())
             }
             ("doc" | "must_use", syn::Meta::NameValue(nv)) => match string(&nv.value) {
@@ -307,33 +285,28 @@ impl<'a> Checker<'a> {
                     self.text += text.len();
                     Ok(())
                 }
-                None => Err(format!("`#[{name} = ...]` may hold a string literal only")),
+                None => Err(Refusal::AttributeValue(name.clone())),
             },
             ("allow", syn::Meta::List(list)) => self.check_lints(list),
-            _ => Err(format!(
-                "the attribute `#[{name}]` is not allowed in solutions (only inline, must_use, doc comments and allow)"
-            )),
+            _ => Err(Refusal::Attribute(name.clone())),
         };
         if let Err(reason) = verdict {
             self.reject(span, reason);
         }
     }
 
-    fn check_lints(&mut self, list: &syn::MetaList) -> Result<(), String> {
+    fn check_lints(&mut self, list: &syn::MetaList) -> Result<(), Refusal> {
         let lints = Punctuated::<syn::Path, syn::Token![,]>::parse_terminated
             .parse2(list.tokens.clone())
-            .map_err(|_| "`#[allow(...)]` must list lints by name".to_string())?;
+            .map_err(|_| Refusal::LintList)?;
         match lints.iter().map(|l| names(l).join("::")).find(|l| !ALLOWED_LINTS.contains(&l.as_str())) {
-            Some(lint) => Err(format!(
-                "`#[allow({lint})]`: a solution may only allow style lints ({})",
-                ALLOWED_LINTS[..4].join(", ") + ", ..."
-            )),
+            Some(lint) => Err(Refusal::Lint(lint)),
             None => Ok(()),
         }
     }
 
     /// Items inside a region act inside its function only, or not at all.
-    fn check_item(&mut self, item: &syn::Item) -> Result<(), (Span, String)> {
+    fn check_item(&mut self, item: &syn::Item) -> Result<(), (Span, Refusal)> {
         let why = match item {
             syn::Item::Fn(_) | syn::Item::Struct(_) | syn::Item::Enum(_) | syn::Item::Union(_) => {
                 return Ok(())
@@ -341,7 +314,7 @@ impl<'a> Checker<'a> {
             syn::Item::Use(_) | syn::Item::Type(_) => return Ok(()),
             syn::Item::Macro(m) if m.ident.is_none() => return Ok(()),
             syn::Item::Const(c) => match interior_mutability(&c.ty) {
-                Some(name) => format!("a `const` of `{name}`: no state may outlive a call"),
+                Some(name) => Refusal::InteriorConst(name.to_string()),
                 None => return Ok(()),
             },
             syn::Item::Impl(i) => match &*i.self_ty {
@@ -352,22 +325,17 @@ impl<'a> Checker<'a> {
                     if self.declared.types.contains(&name) && !generic {
                         return Ok(());
                     }
-                    format!("`impl` of `{name}`: a solution may implement only the types it declares")
+                    Refusal::ForeignImpl(Some(name))
                 }
-                _ => "`impl` of a type it does not declare: a solution may implement only its own types"
-                    .to_string(),
+                _ => Refusal::ForeignImpl(None),
             },
-            syn::Item::Static(_) => {
-                "a `static` keeps state between calls: not allowed in solutions".to_string()
-            }
-            syn::Item::Trait(_) | syn::Item::TraitAlias(_) => {
-                "a `trait` is not allowed in solutions".to_string()
-            }
-            syn::Item::Mod(_) => "a `mod` is not allowed in solutions".to_string(),
-            syn::Item::Macro(_) => "macro definitions are not allowed in solutions".to_string(),
-            syn::Item::ExternCrate(_) => "`extern crate` is not allowed in solutions".to_string(),
-            syn::Item::ForeignMod(_) => "`extern` blocks are not allowed in solutions".to_string(),
-            _ => "code syn cannot read is not allowed in solutions".to_string(),
+            syn::Item::Static(_) => Refusal::Static,
+            syn::Item::Trait(_) | syn::Item::TraitAlias(_) => Refusal::Trait,
+            syn::Item::Mod(_) => Refusal::Mod,
+            syn::Item::Macro(_) => Refusal::MacroDefinition,
+            syn::Item::ExternCrate(_) => Refusal::ExternCrate,
+            syn::Item::ForeignMod(_) => Refusal::ExternBlock,
+            _ => Refusal::Unreadable,
         };
         Err((item_span(item), why))
     }
@@ -505,36 +473,34 @@ impl<'ast> Visit<'ast> for Checker<'_> {
             syn::Lit::Char(c) => self.text += c.value().len_utf8(),
             syn::Lit::Byte(_) => self.text += 1,
             syn::Lit::Bool(_) => {}
-            other => {
-                self.reject(other.span(), "a literal syn cannot read is not allowed in solutions".to_string())
-            }
+            other => self.reject(other.span(), Refusal::UnreadableLiteral),
         }
     }
 
     fn visit_expr_unsafe(&mut self, e: &'ast syn::ExprUnsafe) {
-        self.reject(e.unsafe_token.span, "`unsafe` is not allowed in solutions".to_string());
+        self.reject(e.unsafe_token.span, Refusal::Unsafe);
     }
 
     fn visit_signature(&mut self, sig: &'ast syn::Signature) {
         if let Some(token) = &sig.unsafety {
-            self.reject(token.span, "`unsafe fn` is not allowed in solutions".to_string());
+            self.reject(token.span, Refusal::UnsafeFn);
         }
         if let Some(abi) = &sig.abi {
-            self.reject(abi.extern_token.span, "`extern` functions are not allowed in solutions".to_string());
+            self.reject(abi.extern_token.span, Refusal::ExternFn);
         }
         syn::visit::visit_signature(self, sig);
     }
 
     fn visit_item_impl(&mut self, item: &'ast syn::ItemImpl) {
         if let Some(token) = &item.unsafety {
-            self.reject(token.span, "`unsafe impl` is not allowed in solutions".to_string());
+            self.reject(token.span, Refusal::UnsafeImpl);
         }
         syn::visit::visit_item_impl(self, item);
     }
 
     fn visit_type_bare_fn(&mut self, t: &'ast syn::TypeBareFn) {
         if let Some(token) = &t.unsafety {
-            self.reject(token.span, "`unsafe fn` types are not allowed in solutions".to_string());
+            self.reject(token.span, Refusal::UnsafeFnType);
         }
         syn::visit::visit_type_bare_fn(self, t);
     }
@@ -550,7 +516,7 @@ impl<'ast> Visit<'ast> for Checker<'_> {
         match e {
             syn::Expr::Verbatim(tokens) => {
                 let span = tokens.clone().into_iter().next().map_or_else(Span::call_site, |t| t.span());
-                self.reject(span, "code syn cannot read is not allowed in solutions".to_string());
+                self.reject(span, Refusal::Unreadable);
             }
             _ => syn::visit::visit_expr(self, e),
         }

@@ -44,7 +44,7 @@ fn check_table(table: &[(&str, Verdict)]) {
         let got = check(body, 6);
         let right = match (want, &got) {
             (Ok(()), Ok(())) => true,
-            (Err(reason), Err(r)) => r.reason.contains(reason),
+            (Err(reason), Err(r)) => r.reason.to_string().contains(reason),
             _ => false,
         };
         if !right {
@@ -249,7 +249,7 @@ fn grader_rejects_a_region_that_embeds_a_table_of_data() {
         format!("let t = [{}];", "u8::MAX, ".repeat(0) + &"1, ".repeat(65)),
     ] {
         let r = check(&body, 6).expect_err(&body);
-        assert!(r.reason.contains("does not embed data"), "{r:?}");
+        assert!(r.reason.to_string().contains("does not embed data"), "{r:?}");
     }
     let (mut numbers, mut text) = (0, 0);
     for (checkpoint, body) in solution_regions() {
@@ -271,11 +271,11 @@ fn grader_rejects_a_region_that_embeds_a_table_of_data() {
 #[test]
 fn grader_checks_any_shape_of_region_without_crashing() {
     let deep = format!("{}1{}", "(".repeat(3000), ")".repeat(3000));
-    assert!(check(&deep, 6).unwrap_err().reason.contains("nested 3000 deep"));
+    assert_eq!(check(&deep, 6).unwrap_err().reason, Refusal::TooDeep(3000));
     let long = "let a = 1;\n".repeat(2000);
-    assert!(check(&long, 6).unwrap_err().reason.contains("longer than 8 KiB"));
-    assert!(check("let a = (1;", 6).unwrap_err().reason.contains("do not match"));
-    assert!(check("let s = \"open;", 6).unwrap_err().reason.contains("never ends"));
+    assert_eq!(check(&long, 6).unwrap_err().reason, Refusal::TooLong);
+    assert_eq!(check("let a = (1;", 6).unwrap_err().reason, Refusal::Unbalanced);
+    assert!(check("let s = \"open;", 6).unwrap_err().reason.to_string().contains("never ends"));
     // Chains that syn parses by recursion, as long as the size limit allows.
     let fill = |unit: &str, end: &str| unit.repeat((MAX_REGION_BYTES - end.len()) / unit.len()) + end;
     for body in [
@@ -340,7 +340,7 @@ fn grader_lets_a_local_variable_share_a_harness_name() {
 fn grader_allows_each_region_the_student_api_of_its_checkpoint() {
     let light = "let i = crate::light::PointLight::intensity;";
     assert!(check(light, 6).is_ok());
-    let reason = check(light, 2).unwrap_err().reason;
+    let reason = check(light, 2).unwrap_err().reason.to_string();
     assert!(reason.contains("checkpoint 2 works with crate::{math, geometry}"), "{reason}");
     assert!(check("let b = crate::geometry::Aabb::new;", 7).is_err());
     assert!(check("let s = crate::sampling::estimate_pixel;", 7).is_ok());
