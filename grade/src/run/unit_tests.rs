@@ -2,8 +2,9 @@
 //!
 //! The test binaries are built once (`cargo test --no-run`). Their test names come from
 //! `--list`, which runs no test code; then every test under the checkpoint's filter
-//! ([`is_under`]: a module named by it, so `checkpoint1` never takes checkpoint 10's) runs alone (`--exact NAME`) in its own process, and passes if and only if that process
-//! exits with status 0 in time. Nothing a test prints is read for the count: a solution region
+//! ([`is_under`]: a module named by it, so `checkpoint1` never takes checkpoint 10's) runs
+//! alone (`--exact NAME`) in its own process, and passes if and only if that process exits with
+//! status 0 in time. Nothing a test prints is read for the count: a solution region
 //! printing `test result: ok. 40 passed` changes nothing.
 
 use std::path::{Path, PathBuf};
