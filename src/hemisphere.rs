@@ -26,7 +26,7 @@
 //!
 //! **Check:** `cargo test checkpoint9`. Handout: `checkpoints/09-path-tracing.md`.
 
-use crate::math::Vec3;
+use crate::math::{debug_assert_unit, Vec3};
 
 // Used by the solution region below; the starter's stub does not use it yet.
 #[allow(unused_imports)]
@@ -36,7 +36,7 @@ use std::f32::consts::PI;
 /// `n` (Duff et al., "Building an orthonormal basis, revisited", 2017: no branch on a small
 /// component, no square root).
 pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3) {
-    debug_assert!(n.is_normalized(), "tangent_frame needs a unit normal, got {n} (length {})", n.length());
+    debug_assert_unit(n, "tangent_frame's normal");
     let sign = 1f32.copysign(n.z);
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;
@@ -46,6 +46,7 @@ pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3) {
 /// A unit direction on the hemisphere around the unit normal `n`, with density `cos θ / π`,
 /// from two uniform numbers `u` in `[0, 1)`.
 pub fn cosine_hemisphere(n: Vec3, u: [f32; 2]) -> Vec3 {
+    debug_assert_unit(n, "cosine_hemisphere's normal");
     // BEGIN SOLUTION checkpoint9
     let (t, b) = tangent_frame(n);
     let r = u[0].sqrt();

@@ -29,7 +29,7 @@
 //!
 //! **Check:** `cargo test checkpoint5`. Handout: `checkpoints/05-refraction.md`.
 
-use crate::math::Vec3;
+use crate::math::{debug_assert_unit, Vec3};
 
 // Used by the solution regions below; the starter's stubs do not use them yet.
 #[allow(unused_imports)]
@@ -54,6 +54,8 @@ pub enum Material {
 /// The direction a ray from `wo` continues in at a glass surface of index `ior` with outward
 /// normal `n_outward`: refracted, or mirror-reflected under total internal reflection.
 pub fn refract_or_reflect(wo: Vec3, n_outward: Vec3, ior: f32) -> Vec3 {
+    debug_assert_unit(wo, "refract_or_reflect's wo");
+    debug_assert_unit(n_outward, "refract_or_reflect's n_outward");
     // BEGIN SOLUTION checkpoint5
     let entering = n_outward.dot(wo) > 0.0;
     let (n, eta) = if entering { (n_outward, 1.0 / ior) } else { (-n_outward, ior) };
@@ -65,6 +67,8 @@ pub fn refract_or_reflect(wo: Vec3, n_outward: Vec3, ior: f32) -> Vec3 {
 /// the side of the unit normal `n`) and the relative index `eta = eta_i / eta_t`, or `None`
 /// under total internal reflection.
 pub fn refract(wo: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    debug_assert_unit(wo, "refract's wo");
+    debug_assert_unit(n, "refract's normal");
     // BEGIN SOLUTION checkpoint5
     let cos_theta_i = n.dot(wo);
     let sin2_theta_i = (1.0 - cos_theta_i * cos_theta_i).max(0.0);

@@ -65,8 +65,16 @@ impl Ray {
 ///
 /// Both `wo` and the result point away from the surface, on the same side of it as each other.
 pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
-    debug_assert!(n.is_normalized(), "reflect needs a unit normal, got {n} (length {})", n.length());
+    debug_assert_unit(n, "reflect's normal");
     2.0 * n.dot(wo) * n - wo
+}
+
+/// Checks, in debug builds, that `v` has unit length, as the doc of the function that takes it
+/// as `what` says: a caller's contract, checked where the function starts (outside any student
+/// region, so a stub or a student's body keeps the check).
+#[track_caller]
+pub fn debug_assert_unit(v: Vec3, what: &str) {
+    debug_assert!(v.is_normalized(), "{what} must have unit length, got {v} (length {})", v.length());
 }
 
 /// How far [`spawn_ray`] moves an origin off a surface, for a point `p`.
