@@ -108,13 +108,57 @@ pub struct NoisyReference {
     pub solution: Vec<Vec<[f64; 3]>>,
 }
 
-/// Why one tile failed.
-#[derive(Clone, Debug, PartialEq)]
+/// Why one tile failed: its first failing test.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TileFailure {
     /// The tile's index (row-major).
     pub tile: usize,
-    /// One line: which channel, which test, the values.
-    pub reason: String,
+    /// The colour channel tested.
+    pub channel: Channel,
+    /// The test it failed, with its values.
+    pub problem: TileProblem,
+}
+
+/// A colour channel of a film.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Channel {
+    /// Red.
+    Red,
+    /// Green.
+    Green,
+    /// Blue.
+    Blue,
+}
+
+/// The test a tile's channel failed ([`crate::report::reasons::tile_problem_text`] words it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TileProblem {
+    /// The mean of the submission's tile means is infinite or NaN.
+    NotFinite {
+        /// That mean.
+        mean: f64,
+    },
+    /// The renders barely differ from seed to seed (below [`MIN_SPREAD`] of the solution's spread).
+    NoVariation {
+        /// The submission's spread over the solution's.
+        spread_ratio: f64,
+    },
+    /// The mean is off the expected one (Welch's test).
+    Mean {
+        /// The submission's mean.
+        got: f64,
+        /// The expected mean.
+        want: f64,
+        /// The test's p-value.
+        p: f64,
+    },
+    /// The renders scatter more around the expected mean than the solution's (rank test).
+    Noise {
+        /// The submission's spread over the solution's.
+        spread_ratio: f64,
+        /// The test's p-value.
+        p: f64,
+    },
 }
 
 /// Which way a tile is off, by its least likely test.
@@ -158,7 +202,7 @@ impl NoisyVerdict {
     }
 }
 
-const CHANNELS: [&str; 3] = ["red", "green", "blue"];
+const CHANNELS: [Channel; 3] = [Channel::Red, Channel::Green, Channel::Blue];
 
 /// The rate at which a correct render has some tile below [`NoisyVerdict::calm`], at most: a map
 /// of a correct render is uncoloured 19 times in 20.
@@ -192,18 +236,16 @@ fn test_tiles(
     for (tile, want) in reference.expected.iter().enumerate().take(submission.first().map_or(0, Vec::len)) {
         let mut worst = TileOutcome { p: 1.0, direction: Direction::Noise };
         let mut first = None;
-        for (c, name) in CHANNELS.iter().enumerate() {
+        for (c, name) in CHANNELS.into_iter().enumerate() {
             let (got, solution) = (channel(submission, tile, c), channel(&reference.solution, tile, c));
-            let (outcome, reason) = test_channel(name, &got, &solution, &want[c], &rank, level);
+            let (outcome, problem) = test_channel(&got, &solution, &want[c], &rank, level);
             if outcome.p < worst.p {
                 worst = outcome;
             }
-            first = first.or(reason);
+            first = first.or(problem.map(|problem| TileFailure { tile, channel: name, problem }));
         }
         outcomes.push(worst);
-        if let Some(reason) = first {
-            failures.push(TileFailure { tile, reason });
-        }
+        failures.extend(first);
     }
     (failures, outcomes)
 }
@@ -211,24 +253,21 @@ fn test_tiles(
 /// One channel of one tile: the submission's tile means `got` and the solution's at the same
 /// spp against the expected mean `want`. Its outcome, and why it fails at `level` if it does.
 fn test_channel(
-    name: &str,
     got: &[f64],
     solution: &[f64],
     want: &Summary,
     rank: &RankTest,
     level: f64,
-) -> (TileOutcome, Option<String>) {
+) -> (TileOutcome, Option<TileProblem>) {
     let (g, s) = (Summary::of(got.iter().copied()), Summary::of(solution.iter().copied()));
-    let broken = |reason: String| (TileOutcome { p: 0.0, direction: Direction::Noise }, Some(reason));
+    let broken = |problem| (TileOutcome { p: 0.0, direction: Direction::Noise }, Some(problem));
     if !(g.mean.is_finite() && g.variance.is_finite()) {
-        return broken(format!("{name} radiance is not finite ({})", g.mean));
+        return broken(TileProblem::NotFinite { mean: g.mean });
     }
     // A solution tile without noise (all black, say) leaves the mean test to judge.
     let spread_ratio = if s.variance > 0.0 { (g.variance / s.variance).sqrt() } else { 1.0 };
     if spread_ratio < MIN_SPREAD {
-        return broken(format!(
-            "{name} does not vary with the seed (spread {spread_ratio:.4}x the solution's)"
-        ));
+        return broken(TileProblem::NoVariation { spread_ratio });
     }
     let means = welch(&Summary { variance: g.variance.max(s.variance), ..g }, want);
     let spread = if s.variance > 0.0 {
@@ -237,10 +276,10 @@ fn test_channel(
     } else {
         1.0
     };
-    let reason = if means.p < level {
-        Some(format!("{name} mean {:.4} vs {:.4} expected (p = {:.1e})", g.mean, want.mean, means.p))
+    let problem = if means.p < level {
+        Some(TileProblem::Mean { got: g.mean, want: want.mean, p: means.p })
     } else if spread < level {
-        Some(format!("{name} noise {spread_ratio:.2}x the solution's (rank test, p = {spread:.1e})"))
+        Some(TileProblem::Noise { spread_ratio, p: spread })
     } else {
         None
     };
@@ -252,7 +291,7 @@ fn test_channel(
     } else {
         TileOutcome { p: spread, direction: Direction::Noise }
     };
-    (outcome, reason)
+    (outcome, problem)
 }
 
 /// The p-value a correct render's tiles stay above but with probability [`CALM_RATE`]: Šidák's
@@ -399,10 +438,16 @@ mod tests {
         let (mut biased, mut noisy, mut elsewhere) = (0, 0, 0);
         for _ in 0..50 {
             let verdict = compare(&renders(&mut rng, 16, 0.05, 1.03, 1.0), &reference, 0.01);
-            biased += verdict.failures.iter().any(|f| f.tile == 5 && f.reason.contains("mean")) as u32;
+            biased +=
+                verdict.failures.iter().any(|f| f.tile == 5 && matches!(f.problem, TileProblem::Mean { .. }))
+                    as u32;
             elsewhere += verdict.failures.iter().filter(|f| f.tile != 5).count();
             let verdict = compare(&renders(&mut rng, 16, 0.05, 1.0, 8.0), &reference, 0.01);
-            noisy += verdict.failures.iter().any(|f| f.tile == 6 && f.reason.contains("noise")) as u32;
+            noisy += verdict
+                .failures
+                .iter()
+                .any(|f| f.tile == 6 && matches!(f.problem, TileProblem::Noise { .. }))
+                as u32;
         }
         assert!(biased >= 48 && noisy >= 48, "biased {biased}/50, noisy {noisy}/50");
         assert!(elsewhere <= 3, "{elsewhere} failures outside the biased tile");
@@ -504,7 +549,7 @@ mod tests {
             let verdict = compare(&vec![fixed; 16], &reference, 0.01);
             assert_eq!(verdict.failures.len(), 8, "{:?}", verdict.failures);
             assert!(
-                verdict.failures.iter().all(|f| f.reason.contains("does not vary")),
+                verdict.failures.iter().all(|f| matches!(f.problem, TileProblem::NoVariation { .. })),
                 "{:?}",
                 verdict.failures
             );

@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use crate::fingerprint::Naming;
+use crate::noisy::TileFailure;
 use crate::rubric::Check;
 use crate::run::unit_tests::TestsFailure;
 use crate::scene_failure::SceneFailure;
@@ -170,7 +171,7 @@ pub enum FailedCheck {
         /// The first failed tile's pixels: left, top, right, bottom (inclusive).
         first: [u32; 4],
         /// How the first failed tile differs.
-        reason: String,
+        first_failure: TileFailure,
     },
 }
 

@@ -320,7 +320,7 @@ fn failed_checks(s: &SceneResult) -> Vec<FailedCheck> {
                     failed: v.failures.len(),
                     of: v.tiles.len(),
                     first: [x, y, x + tile - 1, y + tile - 1],
-                    reason: v.failures[0].reason.clone(),
+                    first_failure: v.failures[0],
                 }
             }
             _ => FailedCheck::Metric { check: c.clone(), value: m.value },

@@ -10,7 +10,9 @@ use image::RgbImage;
 use crate::noisy::{tile_origin, NoisyVerdict};
 use crate::outcome::{GradeReport, SceneResult, SceneStatus};
 use crate::report::heatmap::heatmap;
-use crate::report::reasons::{advice_line, checkpoints_text, kept_text, named_text, reason_lines};
+use crate::report::reasons::{
+    advice_line, checkpoints_text, kept_text, named_text, reason_lines, tile_problem_text,
+};
 use crate::report::tile_map::{tile_map, LEGEND};
 use crate::rubric::TileTest;
 
@@ -192,7 +194,7 @@ fn tile_failures(h: &mut String, verdict: &NoisyVerdict, test: &TileTest, width:
         h.push_str("<ul>");
         for f in verdict.failures.iter().take(SHOWN) {
             let (x, y) = tile_origin(f.tile, test.tile, width);
-            let _ = write!(h, "<li>tile at pixel ({x}, {y}): {}</li>", escape(&f.reason));
+            let _ = write!(h, "<li>tile at pixel ({x}, {y}): {}</li>", escape(&tile_problem_text(f)));
         }
         if verdict.failures.len() > SHOWN {
             let _ = write!(h, "<li>and {} more</li>", verdict.failures.len() - SHOWN);

@@ -2,6 +2,7 @@
 //! costs one nothing, what to read. Text, HTML and Gradescope's JSON all say it in these words.
 
 use crate::fingerprint::Naming;
+use crate::noisy::{Channel, TileFailure, TileProblem};
 use crate::outcome::CheckpointResult;
 use crate::rubric::Checkpoint;
 use crate::verdict::{Advice, FailedCheck, Kept, Loss, Part, Reason, Why};
@@ -17,6 +18,27 @@ pub fn reason_lines(result: &CheckpointResult) -> Vec<String> {
 /// What the student of `result`'s checkpoint should read or do, if it is to blame.
 pub fn advice_line(result: &CheckpointResult) -> Option<String> {
     result.advice.as_ref().map(|advice| advice_text(advice, &result.checkpoint))
+}
+
+/// One line for a failed tile: its channel, the test it failed, the values.
+pub fn tile_problem_text(failure: &TileFailure) -> String {
+    let channel = match failure.channel {
+        Channel::Red => "red",
+        Channel::Green => "green",
+        Channel::Blue => "blue",
+    };
+    match failure.problem {
+        TileProblem::NotFinite { mean } => format!("{channel} radiance is not finite ({mean})"),
+        TileProblem::NoVariation { spread_ratio } => {
+            format!("{channel} does not vary with the seed (spread {spread_ratio:.4}x the solution's)")
+        }
+        TileProblem::Mean { got, want, p } => {
+            format!("{channel} mean {got:.4} vs {want:.4} expected (p = {p:.1e})")
+        }
+        TileProblem::Noise { spread_ratio, p } => {
+            format!("{channel} noise {spread_ratio:.2}x the solution's (rank test, p = {p:.1e})")
+        }
+    }
 }
 
 /// One line of a report for `reason`.
@@ -103,8 +125,9 @@ fn failed_check_text(check: &FailedCheck) -> String {
         FailedCheck::Metric { check, value } => {
             format!("{}: got {value:.4}, needs {}", check.label(), check.threshold_text())
         }
-        FailedCheck::Tiles { failed, of, first: [x, y, right, bottom], reason } => format!(
-            "tile test: {failed} of {of} tiles differ from the reference beyond their noise; the first, at pixels ({x}, {y}) to ({right}, {bottom}): {reason}"
+        FailedCheck::Tiles { failed, of, first: [x, y, right, bottom], first_failure } => format!(
+            "tile test: {failed} of {of} tiles differ from the reference beyond their noise; the first, at pixels ({x}, {y}) to ({right}, {bottom}): {}",
+            tile_problem_text(first_failure)
         ),
     }
 }
@@ -144,5 +167,34 @@ pub fn checkpoints_text(ids: &[u32]) -> String {
         [one] => format!("checkpoint {one}"),
         [first @ .., last] => format!("checkpoints {} and {last}", first.join(", ")),
         [] => "no checkpoint".to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each test a tile fails is worded with its channel and its own values.
+    #[test]
+    fn a_failed_tile_says_its_channel_test_and_values() {
+        let text = |problem| tile_problem_text(&TileFailure { tile: 3, channel: Channel::Green, problem });
+        let cases = [
+            (TileProblem::NotFinite { mean: f64::NAN }, "green radiance is not finite (NaN)"),
+            (
+                TileProblem::NoVariation { spread_ratio: 0.0 },
+                "green does not vary with the seed (spread 0.0000x the solution's)",
+            ),
+            (
+                TileProblem::Mean { got: 0.25, want: 0.5, p: 1e-9 },
+                "green mean 0.2500 vs 0.5000 expected (p = 1.0e-9)",
+            ),
+            (
+                TileProblem::Noise { spread_ratio: 2.0, p: 3e-7 },
+                "green noise 2.00x the solution's (rank test, p = 3.0e-7)",
+            ),
+        ];
+        for (problem, words) in cases {
+            assert_eq!(text(problem), words);
+        }
     }
 }

@@ -64,10 +64,17 @@ pub fn tile_map(verdict: &NoisyVerdict, tile: u32, reference: &RgbImage) -> RgbI
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::noisy::{TileFailure, TileOutcome};
+    use crate::noisy::{Channel, TileFailure, TileOutcome, TileProblem};
 
     fn verdict(tiles: Vec<TileOutcome>, failed: &[usize]) -> NoisyVerdict {
-        let failures = failed.iter().map(|&tile| TileFailure { tile, reason: String::new() }).collect();
+        let failures = failed
+            .iter()
+            .map(|&tile| TileFailure {
+                tile,
+                channel: Channel::Red,
+                problem: TileProblem::NotFinite { mean: f64::NAN },
+            })
+            .collect();
         NoisyVerdict { failures, level: 1e-6, tiles, calm: 1e-3 }
     }
 
