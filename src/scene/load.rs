@@ -7,7 +7,9 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
 
-use super::desc::{MaterialDesc, MaterialKind, ObjectDesc, SceneDesc, ShapeKind, MAX_SUBDIVISIONS};
+use super::desc::{
+    CameraDesc, MaterialDesc, MaterialKind, ObjectDesc, SceneDesc, ShapeKind, MAX_SUBDIVISIONS,
+};
 use super::error::{DisplayPath, SceneError, SourceMap};
 use super::{RenderSettings, Scene};
 use crate::camera::{Camera, Projection};
@@ -32,32 +34,7 @@ impl Scene {
         let map = SourceMap { path, text };
         let desc: SceneDesc = toml::from_str(text).map_err(|e| map.error(e.span(), e.message()))?;
 
-        let c = &desc.camera;
-        let view = c.look_at - c.position;
-        if view.length() < 1e-6 * (1.0 + c.position.abs().max_element()) {
-            return Err(map.error(map.key_span("camera", "look_at"), "must differ from the camera position"));
-        }
-        if view.normalize().cross(c.up).length() < 1e-3 * c.up.length() {
-            return Err(map.error(
-                map.key_span("camera", "up"),
-                "must not be parallel to the view direction (or zero)",
-            ));
-        }
-        let projection = match (c.fov, c.orthographic_height) {
-            (Some(fov_degrees), None) => Projection::Pinhole { fov_degrees },
-            (None, Some(height)) => Projection::Orthographic { height },
-            (Some(_), Some(_)) => {
-                let span = map.key_span("camera", "orthographic_height");
-                return Err(
-                    map.error(span, "a camera has a fov (pinhole) or an orthographic_height, not both")
-                );
-            }
-            (None, None) => {
-                let message = "needs fov = DEGREES (a pinhole camera) or orthographic_height = UNITS";
-                return Err(map.error(map.header_span("camera"), message));
-            }
-        };
-        let camera = Camera::with_projection(c.position, c.look_at, c.up, projection, c.width, c.height);
+        let camera = camera(&desc.camera, &map)?;
 
         let names: BTreeMap<&str, u32> =
             desc.materials.keys().enumerate().map(|(i, k)| (k.as_str(), i as u32)).collect();
@@ -93,25 +70,65 @@ impl Scene {
                 );
                 map.error(Some(object.material.span()), message)
             })?;
-            let mesh = object_mesh(object, &map)?;
-            let m = transform_matrix(object.translate, object.rotate, object.scale);
-            let placed = mesh.transformed(&m);
-            let first = scene.triangles.len();
-            scene.triangles.extend(placed.triangles());
-            scene.triangle_materials.resize(scene.triangles.len(), material);
-            scene.triangle_objects.resize(scene.triangles.len(), index as u32);
-            let emission = object.emission.unwrap_or(Vec3::ZERO);
-            scene.object_emission.push(emission);
-            let corners = scene.triangles[first..].iter().flat_map(|t| [t.p0, t.p1, t.p2]);
-            scene.object_boxes.push(corners.fold(Aabb::EMPTY, Aabb::grow));
-            if emission != Vec3::ZERO {
-                let triangles = scene.triangles[first..].to_vec();
-                scene.area_lights.push(AreaLight::new(index as u32, triangles, emission));
-            }
+            scene.add_object(index as u32, object, material, &map)?;
         }
         scene.update_light_powers();
         Ok(scene)
     }
+
+    /// Places the object `index` of the scene file, of material `material`: its triangles, its
+    /// bounding box, its emission (an area light if not zero).
+    fn add_object(
+        &mut self,
+        index: u32,
+        object: &ObjectDesc,
+        material: u32,
+        map: &SourceMap,
+    ) -> Result<(), SceneError> {
+        let mesh = object_mesh(object, map)?;
+        let m = transform_matrix(object.translate, object.rotate, object.scale);
+        let placed = mesh.transformed(&m);
+        let first = self.triangles.len();
+        self.triangles.extend(placed.triangles());
+        self.triangle_materials.resize(self.triangles.len(), material);
+        self.triangle_objects.resize(self.triangles.len(), index);
+        let emission = object.emission.unwrap_or(Vec3::ZERO);
+        self.object_emission.push(emission);
+        let corners = self.triangles[first..].iter().flat_map(|t| [t.p0, t.p1, t.p2]);
+        self.object_boxes.push(corners.fold(Aabb::EMPTY, Aabb::grow));
+        if emission != Vec3::ZERO {
+            let triangles = self.triangles[first..].to_vec();
+            self.area_lights.push(AreaLight::new(index, triangles, emission));
+        }
+        Ok(())
+    }
+}
+
+/// The camera the `[camera]` table describes: a view direction that is not zero nor parallel to
+/// `up`, and one projection.
+fn camera(c: &CameraDesc, map: &SourceMap) -> Result<Camera, SceneError> {
+    let view = c.look_at - c.position;
+    if view.length() < 1e-6 * (1.0 + c.position.abs().max_element()) {
+        return Err(map.error(map.key_span("camera", "look_at"), "must differ from the camera position"));
+    }
+    if view.normalize().cross(c.up).length() < 1e-3 * c.up.length() {
+        return Err(
+            map.error(map.key_span("camera", "up"), "must not be parallel to the view direction (or zero)")
+        );
+    }
+    let projection = match (c.fov, c.orthographic_height) {
+        (Some(fov_degrees), None) => Projection::Pinhole { fov_degrees },
+        (None, Some(height)) => Projection::Orthographic { height },
+        (Some(_), Some(_)) => {
+            let span = map.key_span("camera", "orthographic_height");
+            return Err(map.error(span, "a camera has a fov (pinhole) or an orthographic_height, not both"));
+        }
+        (None, None) => {
+            let message = "needs fov = DEGREES (a pinhole camera) or orthographic_height = UNITS";
+            return Err(map.error(map.header_span("camera"), message));
+        }
+    };
+    Ok(Camera::with_projection(c.position, c.look_at, c.up, projection, c.width, c.height))
 }
 
 /// The material a `[materials.NAME]` table describes, with the fields its kind needs.

@@ -55,6 +55,57 @@ pub struct Sweep {
     pub other_seeds: u64,
 }
 
+/// Which variants calibration grades, on which scenes, with which seeds.
+struct Plan {
+    /// The tile-tested scenes.
+    noisy: Vec<String>,
+    /// The checkpoints they grade.
+    noisy_graded: Vec<u32>,
+    sweep: Option<Sweep>,
+}
+
+impl Plan {
+    fn new(rubric: &Rubric, sweep: Option<Sweep>) -> Plan {
+        let noisy_scenes = || rubric.scenes.iter().filter(|s| s.tile_test.is_some());
+        Plan {
+            noisy: noisy_scenes().map(|s| s.name.clone()).collect(),
+            noisy_graded: noisy_scenes().flat_map(|s| s.grades.clone()).collect(),
+            sweep,
+        }
+    }
+
+    /// The scenes `v` is graded on (`None`: all of them). A mistake is graded on the scenes it
+    /// must fail (`fails`), the noisy ones only in a sweep.
+    fn scenes_of(&self, v: &Variant) -> Option<Vec<String>> {
+        let wanted = |name: &String| self.sweep.is_none() || self.noisy.contains(name);
+        match v.correct {
+            true if self.sweep.is_none() => None,
+            true => Some(self.noisy.clone()),
+            false => Some(v.fails.iter().filter(|n| wanted(n)).cloned().collect()),
+        }
+    }
+
+    /// Whether calibration builds `v` at all: a correct variant, a stub, or a mistake an image
+    /// must show, written its first way, with a scene to grade it on.
+    fn builds(&self, v: &Variant) -> bool {
+        (v.correct || v.stub || !v.fails.is_empty())
+            && v.second_of.is_none()
+            && self.scenes_of(v).is_none_or(|s| !s.is_empty())
+    }
+
+    /// The seeds `v` is graded with (`None`: the scene's own). In a sweep, the solution (the
+    /// variant without patches) and the correct variants of checkpoints a noisy scene grades get
+    /// the full count of seeds.
+    fn seeds_of(&self, v: &Variant) -> Vec<Option<u64>> {
+        let full_sweep = v.correct && (v.patches.is_empty() || self.noisy_graded.contains(&v.checkpoint));
+        match self.sweep {
+            Some(s) => (1..=if full_sweep { s.seeds } else { s.other_seeds }).map(Some).collect(),
+            None if v.seeds.is_empty() => vec![None],
+            None => v.seeds.iter().copied().map(Some).collect(),
+        }
+    }
+}
+
 /// Builds and grades every variant: each correct one on every scene, each mistake on the scenes
 /// it must fail, with the seeds it lists; with a [`Sweep`] only the noisy scenes, with its seeds.
 /// `progress` counts runs.
@@ -68,48 +119,19 @@ pub fn run_all(
     // Every patch must still apply, those of variants calibration does not build included.
     let catalogue = VariantFile::load(&root.join("checkpoints/variants.toml"))?.variants;
     check_patches(root, &catalogue)?;
-    let rubric = Rubric::of_tree(root)?;
-    let noisy: Vec<&str> =
-        rubric.scenes.iter().filter(|s| s.tile_test.is_some()).map(|s| s.name.as_str()).collect();
-    let noisy_graded: Vec<u32> =
-        rubric.scenes.iter().filter(|s| s.tile_test.is_some()).flat_map(|s| s.grades.clone()).collect();
-    // The solution is the variant without patches.
-    let full_sweep =
-        |v: &Variant| v.correct && (v.patches.is_empty() || noisy_graded.contains(&v.checkpoint));
-    let scenes_of = |v: &Variant| -> Option<Vec<String>> {
-        let wanted = |name: &String| sweep.is_none() || noisy.contains(&name.as_str());
-        match v.correct {
-            true if sweep.is_none() => None,
-            true => Some(noisy.iter().map(|s| s.to_string()).collect()),
-            false => Some(v.fails.iter().filter(|n| wanted(n)).cloned().collect()),
-        }
-    };
-    let variants: Vec<Variant> = catalogue
-        .into_iter()
-        .filter(|v| {
-            (v.correct || v.stub || !v.fails.is_empty())
-                && v.second_of.is_none()
-                && scenes_of(v).is_none_or(|s| !s.is_empty())
-        })
-        .collect();
-    let seeds_of = |v: &Variant| -> Vec<Option<u64>> {
-        match sweep {
-            Some(s) => (1..=if full_sweep(v) { s.seeds } else { s.other_seeds }).map(Some).collect(),
-            None if v.seeds.is_empty() => vec![None],
-            None => v.seeds.iter().copied().map(Some).collect(),
-        }
-    };
+    let plan = Plan::new(&Rubric::of_tree(root)?, sweep);
+    let variants: Vec<Variant> = catalogue.into_iter().filter(|v| plan.builds(v)).collect();
     // Absolute: cargo runs inside the scratch tree, where a relative path would mean another place.
     let root = std::path::absolute(root).map_err(|e| FileError::unreadable(root, &e))?;
     let work = root.join("target/variants");
     let (tree, target) = (work.join("tree"), work.join("target"));
-    progress.set_length(variants.iter().map(|v| seeds_of(v).len()).sum::<usize>() as u64);
+    progress.set_length(variants.iter().map(|v| plan.seeds_of(v).len()).sum::<usize>() as u64);
     let mut runs = Vec::new();
     for variant in variants {
         progress.set_message(format!("building {}", variant.name));
         make_scratch_tree(&root, &tree, &variant)?;
-        let scenes = scenes_of(&variant);
-        for seed in seeds_of(&variant) {
+        let scenes = plan.scenes_of(&variant);
+        for seed in plan.seeds_of(&variant) {
             progress.set_message(format!("grading {}", variant.name));
             // A variant of checkpoint 5 or later has checkpoints 2-4 as the solution's: its noisy
             // renders may take the wide BVH (ARCHITECTURE.md, "Which tracer").

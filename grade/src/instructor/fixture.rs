@@ -178,8 +178,24 @@ fn region_marker_line(dir: &Path, place: &str) -> Option<usize> {
     Some(line_at(&source, region.body.start) - 1 + below)
 }
 
+/// A file error of a fixture's edit.
+fn io(path: &Path, e: std::io::Error) -> FixtureProblem {
+    FixtureProblem::File(FileError::unwritable(path, &e))
+}
+
+/// Applies `fixture`'s edits to the copy of the solution at `dir`: region bodies, then files, then
+/// (if asked) the markers stripped.
 fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), FixtureProblem> {
-    let io = |path: &Path, e: std::io::Error| FixtureProblem::File(FileError::unwritable(path, &e));
+    replace_regions(fixture, dir)?;
+    edit_files(fixture, dir, solution)?;
+    if fixture.strip_markers {
+        strip_markers(dir)?;
+    }
+    Ok(())
+}
+
+/// Each `[[region]]` edit: the body of a function's region replaced.
+fn replace_regions(fixture: &Fixture, dir: &Path) -> Result<(), FixtureProblem> {
     for edit in &fixture.region {
         let path = dir.join(&edit.file);
         let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
@@ -196,6 +212,12 @@ fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), FixturePr
         out.replace_range(range, &edit.body.trim_start_matches('\n').replace(UNCHECKED, &unchecked_token()));
         std::fs::write(&path, out).map_err(|e| io(&path, e))?;
     }
+    Ok(())
+}
+
+/// The edits of whole files: written, deleted, copied, given CRLF line ends, appended to, made
+/// symbolic links (`{solution}` in a link's target is the solution's absolute path).
+fn edit_files(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), FixtureProblem> {
     for edit in &fixture.write {
         let path = dir.join(&edit.path);
         std::fs::write(&path, &edit.text).map_err(|e| io(&path, e))?;
@@ -226,16 +248,17 @@ fn apply(fixture: &Fixture, dir: &Path, solution: &Path) -> Result<(), FixturePr
         let _ = std::fs::remove_file(&path);
         std::os::unix::fs::symlink(&target, &path).map_err(|e| io(&path, e))?;
     }
-    if fixture.strip_markers {
-        for (path, text) in rust_files(&dir.join("src")).map_err(|e| io(dir, e))? {
-            let kept: String = text
-                .split_inclusive('\n')
-                .filter(|l| {
-                    !l.contains("// BEGIN SOLUTION") && !l.trim_start().starts_with("// END SOLUTION")
-                })
-                .collect();
-            std::fs::write(&path, kept).map_err(|e| io(&path, e))?;
-        }
+    Ok(())
+}
+
+/// Every line with a solution marker removed from the Rust files under `dir/src`.
+fn strip_markers(dir: &Path) -> Result<(), FixtureProblem> {
+    for (path, text) in rust_files(&dir.join("src")).map_err(|e| io(dir, e))? {
+        let kept: String = text
+            .split_inclusive('\n')
+            .filter(|l| !l.contains("// BEGIN SOLUTION") && !l.trim_start().starts_with("// END SOLUTION"))
+            .collect();
+        std::fs::write(&path, kept).map_err(|e| io(&path, e))?;
     }
     Ok(())
 }

@@ -270,11 +270,10 @@ mod tests {
     type Change = Box<dyn FnOnce(&mut Rubric)>;
     type Case = (Change, fn(&RuleBroken) -> bool);
 
-    /// Each rule, broken alone in the instructor's rubric, gives its own error, and no two rules
-    /// share a message.
-    #[test]
-    fn each_rule_broken_alone_gives_its_own_error() {
-        let cases: Vec<Case> = vec![
+    /// One change of the instructor's rubric per rule of [`Rubric::validate`], and the error it
+    /// must give (the hidden part's rules are tested in `rubric::tests`, where it is merged).
+    fn each_rule_broken() -> Vec<Case> {
+        vec![
             (Box::new(|r| r.checkpoints.swap(0, 1)), |e| matches!(e, RuleBroken::CheckpointIds(_))),
             (Box::new(|r| r.checkpoints[0].handout = "checkpoints/none.md".into()), |e| {
                 matches!(e, RuleBroken::MissingHandout { checkpoint: 1, .. })
@@ -325,7 +324,14 @@ mod tests {
             (Box::new(|r| r.scenes.retain(|s| !s.hidden)), |e| {
                 matches!(e, RuleBroken::PointsWithoutScenes { hidden: true, .. })
             }),
-        ];
+        ]
+    }
+
+    /// Each rule, broken alone in the instructor's rubric, gives its own error, and no two rules
+    /// share a message.
+    #[test]
+    fn each_rule_broken_alone_gives_its_own_error() {
+        let cases = each_rule_broken();
         let mut variants = Vec::new();
         let cases_run = cases.len();
         for (i, (change, expected)) in cases.into_iter().enumerate() {

@@ -103,6 +103,7 @@ impl WideBvh {
         let mut next = Link::new(Child::Node(0));
         loop {
             match next.child() {
+                // A leaf: its packet of triangles, each hit shrinking the ray.
                 Child::Leaf { packet, triangles } => {
                     stats.triangle_tests += triangles as u64;
                     if let Some((prim, hit)) = self.packets[packet as usize].intersect(&ray) {
@@ -113,6 +114,7 @@ impl WideBvh {
                         }
                     }
                 }
+                // A node: its children's boxes at once, those met pushed.
                 Child::Node(n) => {
                     let node = &self.nodes[n as usize];
                     stats.box_tests += node.used as u64;
