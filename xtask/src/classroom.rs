@@ -12,10 +12,9 @@ use std::fmt::Write;
 
 use raylab_grade::rubric::Rubric;
 
-/// The workflow file, for the public rubric.
-pub fn workflow(rubric: &Rubric) -> String {
-    let mut yaml = String::from(
-        "# Written by `cargo xtask starter` from checkpoints/rubric.toml: feedback on every push.
+/// The workflow up to the checkpoints' steps: checkout, and the tests built once.
+const HEADER: &str =
+    "# Written by `cargo xtask starter` from checkpoints/rubric.toml: feedback on every push.
 # The points here are the unit tests' share; your instructor grades the submission itself.
 name: Autograding
 \"on\":
@@ -33,8 +32,11 @@ jobs:
       - uses: actions/checkout@v4
       - name: Build the tests once
         run: cargo test --no-run --quiet
-",
-    );
+";
+
+/// The workflow file, for the public rubric.
+pub fn workflow(rubric: &Rubric) -> String {
+    let mut yaml = String::from(HEADER);
     let mut runners = Vec::new();
     for c in rubric.checkpoints.iter().filter(|c| c.test_points > 0.0) {
         let id = format!("checkpoint-{}", c.id);

@@ -39,8 +39,31 @@ pub fn gradescope_dry_run(emulate: bool) -> Result<(), String> {
     let work = root.join(if emulate { "target/gradescope-emulated" } else { "target/gradescope-dry-run" });
     let scripts = Scripts { emulation: emulate.then(|| root.join("tools/gradescope-emulation.sh")) };
     let autograder = work.join("autograder");
+    set_up(root, &work, &scripts, &autograder)?;
+    let submission = autograder.join("submission");
+    let mut problems = Vec::new();
+    let names: &[&str] =
+        if emulate { &["solution", "crashes"] } else { &["solution", "starter", "crashes", "cheats"] };
+    for &name in names {
+        if submission.exists() {
+            std::fs::remove_dir_all(&submission).map_err(|e| format!("{}: {e}", submission.display()))?;
+        }
+        let want = submit(root, name, &submission)?;
+        problems.extend(run_autograder(&scripts, &autograder, name, want)?);
+    }
+    problems.extend(killed_grader(&scripts, &autograder, &work)?);
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
+}
+
+/// A fresh `work` folder, the autograder packaged into it, unzipped into `autograder/source`
+/// and set up by its `setup.sh`, each step timed.
+fn set_up(root: &Path, work: &Path, scripts: &Scripts, autograder: &Path) -> Result<(), String> {
     if work.exists() {
-        std::fs::remove_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
+        std::fs::remove_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
     }
     let zip = work.join("autograder.zip");
     let started = Instant::now();
@@ -50,67 +73,65 @@ pub fn gradescope_dry_run(emulate: bool) -> Result<(), String> {
     let source = autograder.join("source");
     std::fs::create_dir_all(&source).map_err(|e| format!("{}: {e}", source.display()))?;
     run("unzip", Command::new("unzip").arg("-q").arg(&zip).arg("-d").arg(&source))?;
-
     let started = Instant::now();
-    run("setup.sh", &mut scripts.command(&autograder, "setup.sh"))?;
+    run("setup.sh", &mut scripts.command(autograder, "setup.sh"))?;
     println!(
         "setup.sh: {:.0} s (the grader built, the solution graded once)",
         started.elapsed().as_secs_f64()
     );
+    Ok(())
+}
 
-    let total = Rubric::of_tree(root).map_err(|e| e.to_string())?.total_points();
-    let starter_points = Rubric::of_tree(root).map_err(|e| e.to_string())?.checkpoints[0].test_points;
-    let submission = autograder.join("submission");
+/// Puts the submission `name` at `submission`, and says what its grade must be.
+fn submit(root: &Path, name: &str, submission: &Path) -> Result<Want, String> {
+    let rubric = Rubric::of_tree(root).map_err(|e| e.to_string())?;
+    Ok(match name {
+        "solution" => {
+            copy_tree(root, submission, &NOT_COPIED).map_err(|e| format!("copying the solution: {e}"))?;
+            Want::Total(rubric.total_points())
+        }
+        // Uploaded as a zip of the repository's folder: the tree one level down.
+        "starter" => {
+            crate::starter::starter(&submission.join("raylab-starter"))?;
+            Want::Total(rubric.checkpoints[0].test_points)
+        }
+        hostile => Want::Fixture(fixture::make(root, hostile, submission).map_err(|e| e.to_string())?),
+    })
+}
+
+/// Runs `run_autograder` on the submission in place, over a planted full-marks result; what
+/// differs from `want`.
+fn run_autograder(
+    scripts: &Scripts,
+    autograder: &Path,
+    name: &str,
+    want: Want,
+) -> Result<Vec<String>, String> {
+    // What a graded process could leave where Gradescope reads the result: replaced.
+    plant_full_marks(&autograder.join("results/results.json"))?;
+    let started = Instant::now();
+    run("run_autograder", &mut scripts.command(autograder, "run_autograder"))?;
+    let seconds = started.elapsed().as_secs_f64();
+    let path = autograder.join("results/results.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{name}: {}: {e}", path.display()))?;
+    let results: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{name}: results.json: {e}"))?;
+    let score = results["score"].as_f64().unwrap_or(-1.0);
+    println!("run_autograder {name}: {score} points in {seconds:.0} s");
     let mut problems = Vec::new();
-    let names: &[&str] =
-        if emulate { &["solution", "crashes"] } else { &["solution", "starter", "crashes", "cheats"] };
-    for &name in names {
-        if submission.exists() {
-            std::fs::remove_dir_all(&submission).map_err(|e| format!("{}: {e}", submission.display()))?;
+    if text.contains("refused: ") || text.contains("sandbox") {
+        problems.push(format!("{name}: results.json speaks of the sandbox's walls: {text}"));
+    }
+    match want {
+        Want::Total(want) if (score - want).abs() > 0.011 => {
+            problems.push(format!("{name}: {score} points, expected {want}"))
         }
-        let want = match name {
-            "solution" => {
-                copy_tree(root, &submission, &NOT_COPIED)
-                    .map_err(|e| format!("copying the solution: {e}"))?;
-                Want::Total(total)
-            }
-            // Uploaded as a zip of the repository's folder: the tree one level down.
-            "starter" => {
-                crate::starter::starter(&submission.join("raylab-starter"))?;
-                Want::Total(starter_points)
-            }
-            hostile => Want::Fixture(fixture::make(root, hostile, &submission).map_err(|e| e.to_string())?),
-        };
-        // What a graded process could leave where Gradescope reads the result: replaced.
-        plant_full_marks(&autograder.join("results/results.json"))?;
-        let started = Instant::now();
-        run("run_autograder", &mut scripts.command(&autograder, "run_autograder"))?;
-        let seconds = started.elapsed().as_secs_f64();
-        let path = autograder.join("results/results.json");
-        let text = std::fs::read_to_string(&path).map_err(|e| format!("{name}: {}: {e}", path.display()))?;
-        let results: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| format!("{name}: results.json: {e}"))?;
-        let score = results["score"].as_f64().unwrap_or(-1.0);
-        println!("run_autograder {name}: {score} points in {seconds:.0} s");
-        if text.contains("refused: ") || text.contains("sandbox") {
-            problems.push(format!("{name}: results.json speaks of the sandbox's walls: {text}"));
-        }
-        match want {
-            Want::Total(want) if (score - want).abs() > 0.011 => {
-                problems.push(format!("{name}: {score} points, expected {want}"))
-            }
-            Want::Total(_) => {}
-            Want::Fixture(expected) => {
-                problems.extend(expected.problems(&results).into_iter().map(|p| format!("{name}: {p}")))
-            }
+        Want::Total(_) => {}
+        Want::Fixture(expected) => {
+            problems.extend(expected.problems(&results).into_iter().map(|p| format!("{name}: {p}")))
         }
     }
-    problems.extend(killed_grader(&scripts, &autograder, &work)?);
-    if problems.is_empty() {
-        Ok(())
-    } else {
-        Err(problems.join("\n"))
-    }
+    Ok(problems)
 }
 
 fn plant_full_marks(path: &Path) -> Result<(), String> {

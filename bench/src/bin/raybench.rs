@@ -99,6 +99,36 @@ fn run(args: Args) -> Result<(), String> {
         return Ok(());
     }
     let path = args.mesh.as_ref().expect("clap requires a mesh without --generate");
+    let mesh = load_mesh(path)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads as usize)
+        .build()
+        .map_err(|e| format!("cannot start {} threads: {e}", args.threads))?;
+    let method = match args.split {
+        SplitArg::Sah => SplitMethod::Sah,
+        SplitArg::Median => SplitMethod::ObjectMedian,
+    };
+    let (bvh, wide, built) = build_trees(&mesh, method, &pool, args.threads);
+    print_memory("after build");
+    let peer = Peers::new(args.peer, &mesh, args.threads as usize, built)?;
+    println!("workload   tree        rays  Mrays/s  box/ray  tri/ray  hits{}", peer.header());
+    let workloads = match args.workload {
+        WorkloadArg::Primary => vec![Workload::Primary],
+        WorkloadArg::Incoherent => vec![Workload::Incoherent],
+        WorkloadArg::Shadow => vec![Workload::Shadow],
+        WorkloadArg::All => Workload::ALL.to_vec(),
+    };
+    for workload in workloads {
+        let rays = workload.rays();
+        let pass = Pass { pool: &pool, rays: &rays, workload, repeat: args.repeat };
+        trace_both(&pass, &bvh, &wide, &peer)?;
+    }
+    print_memory("at the end");
+    Ok(())
+}
+
+/// The mesh at `path`, with the time it took to load.
+fn load_mesh(path: &std::path::Path) -> Result<TriangleMesh, String> {
     let start = Instant::now();
     let mesh = TriangleMesh::load_obj(path).map_err(|e| format!("{}: {e}", path.display()))?;
     if mesh.indices.is_empty() {
@@ -110,23 +140,24 @@ fn run(args: Args) -> Result<(), String> {
         mesh.indices.len(),
         secs(start.elapsed())
     );
+    Ok(mesh)
+}
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads as usize)
-        .build()
-        .map_err(|e| format!("cannot start {} threads: {e}", args.threads))?;
-    let method = match args.split {
-        SplitArg::Sah => SplitMethod::Sah,
-        SplitArg::Median => SplitMethod::ObjectMedian,
-    };
+/// The binary BVH built by `method` on `pool`, and the wide one collapsed from it, each timed;
+/// the time of both.
+fn build_trees(
+    mesh: &TriangleMesh,
+    method: SplitMethod,
+    pool: &rayon::ThreadPool,
+    threads: u32,
+) -> (Bvh, WideBvh, Duration) {
     let triangles: Vec<Triangle> = mesh.triangles().collect();
     let start = Instant::now();
     let bvh = pool.install(|| Bvh::build(&triangles, method));
     let build_time = start.elapsed();
     drop(triangles);
     println!(
-        "build     {method:?}, {} thread(s): {:.3} s, {} nodes, depth {}",
-        args.threads,
+        "build     {method:?}, {threads} thread(s): {:.3} s, {} nodes, depth {}",
         secs(build_time),
         bvh.nodes().len(),
         bvh.depth()
@@ -142,42 +173,34 @@ fn run(args: Args) -> Result<(), String> {
         wide.nodes().len(),
         wide.packets().len()
     );
-    print_memory("after build");
-    let peer = Peers::new(args.peer, &mesh, args.threads as usize, build_time + collapse_time)?;
+    (bvh, wide, build_time + collapse_time)
+}
 
-    println!("workload   tree        rays  Mrays/s  box/ray  tri/ray  hits{}", peer.header());
-    let workloads = match args.workload {
-        WorkloadArg::Primary => vec![Workload::Primary],
-        WorkloadArg::Incoherent => vec![Workload::Incoherent],
-        WorkloadArg::Shadow => vec![Workload::Shadow],
-        WorkloadArg::All => Workload::ALL.to_vec(),
-    };
-    for workload in workloads {
-        let rays = workload.rays();
-        let pass = Pass { pool: &pool, rays: &rays, workload, repeat: args.repeat };
-        let rows = [("binary", pass.best(&bvh)), ("wide", pass.best(&wide))];
-        if rows[0].1.hits != rows[1].1.hits {
-            return Err(format!(
-                "{workload}: the binary tree hit {} rays, the wide {}",
-                rows[0].1.hits, rows[1].1.hits
-            ));
-        }
-        let peer_mrays = peer.mrays(&pass, &rows[0].1)?;
-        for (tree, best) in &rows {
-            println!(
-                "{:<10} {tree:<6} {:>9} {:>8.2} {:>8.1} {:>8.1}  {}{}",
-                workload.to_string(),
-                best.rays,
-                best.mrays_per_second(),
-                best.box_tests_per_ray(),
-                best.triangle_tests_per_ray(),
-                best.hits,
-                peer_mrays
-                    .map_or(String::new(), |m| format!("  {m:>10.2}  {:>13.2}", best.mrays_per_second() / m)),
-            );
-        }
+/// One workload's rays through both trees (and the peer, if any): a row each. The trees must hit
+/// the same number of rays.
+fn trace_both(pass: &Pass, bvh: &Bvh, wide: &WideBvh, peer: &Peers) -> Result<(), String> {
+    let workload = pass.workload;
+    let rows = [("binary", pass.best(bvh)), ("wide", pass.best(wide))];
+    if rows[0].1.hits != rows[1].1.hits {
+        return Err(format!(
+            "{workload}: the binary tree hit {} rays, the wide {}",
+            rows[0].1.hits, rows[1].1.hits
+        ));
     }
-    print_memory("at the end");
+    let peer_mrays = peer.mrays(pass, &rows[0].1)?;
+    for (tree, best) in &rows {
+        println!(
+            "{:<10} {tree:<6} {:>9} {:>8.2} {:>8.1} {:>8.1}  {}{}",
+            workload.to_string(),
+            best.rays,
+            best.mrays_per_second(),
+            best.box_tests_per_ray(),
+            best.triangle_tests_per_ray(),
+            best.hits,
+            peer_mrays
+                .map_or(String::new(), |m| format!("  {m:>10.2}  {:>13.2}", best.mrays_per_second() / m)),
+        );
+    }
     Ok(())
 }
 
