@@ -31,14 +31,17 @@
 //! (`#![deny(unsafe_code)]` in the renderer, privacy) and the operating system are the others.
 
 mod lists;
+mod macros;
 mod refusal;
 #[cfg(test)]
 mod tests;
+mod visit;
 
 use std::collections::BTreeSet;
 
 pub use lists::*;
-use proc_macro2::{Span, TokenStream};
+use macros::{parse_macro_arguments, MacroArgument};
+use proc_macro2::Span;
 pub use refusal::Refusal;
 use syn::parse::Parser;
 use syn::punctuated::Punctuated;
@@ -384,141 +387,4 @@ fn interior_mutability(ty: &syn::Type) -> Option<String> {
     let mut find = Find(None);
     find.visit_type(ty);
     find.0
-}
-
-/// What a macro call's tokens hold, once parsed.
-enum MacroArgument {
-    Expr(syn::Expr),
-    Pat(syn::Pat),
-}
-
-/// Parses the arguments of an allowed macro: comma-separated expressions; `vec![x; n]`;
-/// `matches!(expr, pattern if guard)`. `None` if they do not parse that way.
-fn parse_macro_arguments(name: &str, tokens: TokenStream) -> Option<Vec<MacroArgument>> {
-    let exprs = |t: TokenStream| Punctuated::<syn::Expr, syn::Token![,]>::parse_terminated.parse2(t).ok();
-    if name == "matches" {
-        let parser = |input: syn::parse::ParseStream| {
-            let e: syn::Expr = input.parse()?;
-            input.parse::<syn::Token![,]>()?;
-            let p = syn::Pat::parse_multi_with_leading_vert(input)?;
-            let guard = if input.peek(syn::Token![if]) {
-                input.parse::<syn::Token![if]>()?;
-                Some(input.parse::<syn::Expr>()?)
-            } else {
-                None
-            };
-            let _ = input.parse::<Option<syn::Token![,]>>()?;
-            Ok((e, p, guard))
-        };
-        let (e, p, guard) = parser.parse2(tokens).ok()?;
-        let mut out = vec![MacroArgument::Expr(e), MacroArgument::Pat(p)];
-        out.extend(guard.map(MacroArgument::Expr));
-        return Some(out);
-    }
-    if let Some(list) = exprs(tokens.clone()) {
-        return Some(list.into_iter().map(MacroArgument::Expr).collect());
-    }
-    if name == "vec" {
-        let parser = |input: syn::parse::ParseStream| {
-            let e: syn::Expr = input.parse()?;
-            input.parse::<syn::Token![;]>()?;
-            let n: syn::Expr = input.parse()?;
-            Ok((e, n))
-        };
-        let (e, n) = parser.parse2(tokens).ok()?;
-        return Some(vec![MacroArgument::Expr(e), MacroArgument::Expr(n)]);
-    }
-    None
-}
-
-impl<'ast> Visit<'ast> for Checker<'_> {
-    fn visit_path(&mut self, path: &'ast syn::Path) {
-        self.check_path(path);
-        syn::visit::visit_path(self, path);
-    }
-
-    fn visit_expr_path(&mut self, e: &'ast syn::ExprPath) {
-        if let Some(qself) = &e.qself {
-            self.check_qualified(qself, &e.path);
-        }
-        syn::visit::visit_expr_path(self, e);
-    }
-
-    fn visit_type_path(&mut self, t: &'ast syn::TypePath) {
-        if let Some(qself) = &t.qself {
-            self.check_qualified(qself, &t.path);
-        }
-        syn::visit::visit_type_path(self, t);
-    }
-
-    fn visit_item_use(&mut self, item: &'ast syn::ItemUse) {
-        self.check_use(&mut Vec::new(), &item.tree);
-        item.attrs.iter().for_each(|a| self.visit_attribute(a));
-    }
-
-    fn visit_macro(&mut self, mac: &'ast syn::Macro) {
-        self.check_macro(mac);
-    }
-
-    fn visit_attribute(&mut self, attribute: &'ast syn::Attribute) {
-        self.check_attribute(attribute);
-    }
-
-    fn visit_lit(&mut self, lit: &'ast syn::Lit) {
-        match lit {
-            syn::Lit::Int(_) | syn::Lit::Float(_) => self.numbers += 1,
-            syn::Lit::Str(s) => self.text += s.value().len(),
-            syn::Lit::ByteStr(s) => self.text += s.value().len(),
-            syn::Lit::CStr(s) => self.text += s.value().as_bytes().len(),
-            syn::Lit::Char(c) => self.text += c.value().len_utf8(),
-            syn::Lit::Byte(_) => self.text += 1,
-            syn::Lit::Bool(_) => {}
-            other => self.reject(other.span(), Refusal::UnreadableLiteral),
-        }
-    }
-
-    fn visit_expr_unsafe(&mut self, e: &'ast syn::ExprUnsafe) {
-        self.reject(e.unsafe_token.span, Refusal::Unsafe);
-    }
-
-    fn visit_signature(&mut self, sig: &'ast syn::Signature) {
-        if let Some(token) = &sig.unsafety {
-            self.reject(token.span, Refusal::UnsafeFn);
-        }
-        if let Some(abi) = &sig.abi {
-            self.reject(abi.extern_token.span, Refusal::ExternFn);
-        }
-        syn::visit::visit_signature(self, sig);
-    }
-
-    fn visit_item_impl(&mut self, item: &'ast syn::ItemImpl) {
-        if let Some(token) = &item.unsafety {
-            self.reject(token.span, Refusal::UnsafeImpl);
-        }
-        syn::visit::visit_item_impl(self, item);
-    }
-
-    fn visit_type_bare_fn(&mut self, t: &'ast syn::TypeBareFn) {
-        if let Some(token) = &t.unsafety {
-            self.reject(token.span, Refusal::UnsafeFnType);
-        }
-        syn::visit::visit_type_bare_fn(self, t);
-    }
-
-    fn visit_item(&mut self, item: &'ast syn::Item) {
-        match self.check_item(item) {
-            Ok(()) => syn::visit::visit_item(self, item),
-            Err((span, reason)) => self.reject(span, reason),
-        }
-    }
-
-    fn visit_expr(&mut self, e: &'ast syn::Expr) {
-        match e {
-            syn::Expr::Verbatim(tokens) => {
-                let span = tokens.clone().into_iter().next().map_or_else(Span::call_site, |t| t.span());
-                self.reject(span, Refusal::Unreadable);
-            }
-            _ => syn::visit::visit_expr(self, e),
-        }
-    }
 }
