@@ -1,8 +1,9 @@
 //! `cargo xtask student-loop [--runs 5]`: a student's edit-and-grade loop, timed. A benchmark,
 //! not a test: it prints a table for docs/PERFORMANCE.md and fails only if a command cannot run.
 //!
-//! In a fresh starter with its own target folder, for N = 2 to 7 in turn, checkpoint N is written
-//! (the solution's files holding its regions are copied in; 2 to N - 1 already are), the grader
+//! In a fresh starter with its own target folder, for each counted checkpoint N with regions, in
+//! the rubric's order (2 to 7 in this course), checkpoint N is written (the solution's files
+//! holding its regions are copied in; the checkpoints before it already are), the grader
 //! warmed up once, and then, `runs` times: one line saved in a region of checkpoint N, and the
 //! wall time to the exit of `cargo grader --checkpoint N`; then another line, and the time of
 //! `cargo test checkpointN --no-run`, the build a student waits for anyway; then `grader watch
@@ -17,11 +18,12 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use raylab_grade::regions::stub::{region_bodies, rust_files};
+use raylab_grade::rubric::Rubric;
 
 use crate::repository;
 use crate::starter::starter;
 
-/// Times the loop for checkpoints 2 to 7, `runs` saves each.
+/// Times the loop for the counted checkpoints with regions, `runs` saves each.
 pub fn student_loop(runs: usize) -> Result<(), String> {
     let work = std::env::temp_dir().join("raylab-student-loop");
     if work.exists() {
@@ -33,9 +35,13 @@ pub fn student_loop(runs: usize) -> Result<(), String> {
         "| N | save to `cargo grader --checkpoint N` exit | save to `cargo test checkpointN --no-run` | save to watch's first answer |"
     );
     println!("|---|---|---|---|");
+    let rubric = Rubric::of_tree(repository()).map_err(|e| e.to_string())?;
     let mut saves = 0;
-    for n in 2..=7 {
+    for n in rubric.checkpoints.iter().filter(|c| !c.extra).map(|c| c.id) {
         let files = region_files(n)?;
+        if files.is_empty() {
+            continue; // the environment: nothing to write
+        }
         for file in &files {
             std::fs::copy(repository().join(file), tree.join(file))
                 .map_err(|e| format!("{}: {e}", file.display()))?;
@@ -72,9 +78,6 @@ fn region_files(n: u32) -> Result<Vec<PathBuf>, String> {
         .filter(|(_, text)| !region_bodies(text, n).is_empty())
         .filter_map(|(path, _)| path.strip_prefix(root).ok().map(Path::to_path_buf))
         .collect();
-    if held.is_empty() {
-        return Err(format!("checkpoint {n} has no region"));
-    }
     Ok(held)
 }
 

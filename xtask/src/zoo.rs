@@ -65,7 +65,7 @@ fn catch(v: &Variant, rubric: &Rubric, tree: &Path, target: &Path) -> Result<Cau
     };
     let failing_tests: Vec<String> =
         tests.failures.iter().map(|f| f.rsplit("::").next().unwrap_or(f).to_string()).collect();
-    let values = grade_images(tree, target, None, None, v.checkpoint >= 5).map_err(|e| e.to_string())?;
+    let values = grade_images(tree, target, None, None, v.may_render_wide()).map_err(|e| e.to_string())?;
     let graders_of =
         |scene: &str| rubric.scenes.iter().find(|s| s.name == scene).map_or(Vec::new(), |s| s.grades.clone());
     let failing_scenes: Vec<String> = values

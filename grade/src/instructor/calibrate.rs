@@ -133,9 +133,7 @@ pub fn run_all(
         let scenes = plan.scenes_of(&variant);
         for seed in plan.seeds_of(&variant) {
             progress.set_message(format!("grading {}", variant.name));
-            // A variant of checkpoint 5 or later has checkpoints 2-4 as the solution's: its noisy
-            // renders may take the wide BVH (ARCHITECTURE.md, "Which tracer").
-            let values = grade_images(&tree, &target, seed, scenes.clone(), variant.checkpoint >= 5);
+            let values = grade_images(&tree, &target, seed, scenes.clone(), variant.may_render_wide());
             runs.push(Run { variant: variant.clone(), seed, values });
             progress.inc(1);
         }

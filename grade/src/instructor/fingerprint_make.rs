@@ -146,7 +146,7 @@ fn render(
         let seeds: BTreeSet<Option<u64>> = wanted.iter().map(|w| w.1).collect();
         for seed in seeds {
             let scenes: Vec<String> = wanted.iter().filter(|w| w.1 == seed).map(|w| w.0.clone()).collect();
-            let report = grade_report(&tree, &target, seed, Some(scenes), variant.checkpoint >= 5)?;
+            let report = grade_report(&tree, &target, seed, Some(scenes), variant.may_render_wide())?;
             for s in report.scenes {
                 let Some(render) = s.render else {
                     let why = s.error.map(|e| e.to_string()).unwrap_or_default();

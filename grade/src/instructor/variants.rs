@@ -115,6 +115,19 @@ impl TryFrom<PatchFile> for Patch {
     }
 }
 
+/// The checkpoints whose code the harness's wide BVH (`render --accel wide`) stands for: a render
+/// through it runs none of their regions (ARCHITECTURE.md, "Which tracer").
+pub const WIDE_BVH_REPLACES: [u32; 3] = [2, 3, 4];
+
+impl Variant {
+    /// Whether the variant's noisy renders may take the wide BVH, three to four times faster:
+    /// only if its own checkpoint's code is not among those the wide BVH replaces (the rest of a
+    /// variant's tree is the solution's).
+    pub fn may_render_wide(&self) -> bool {
+        !WIDE_BVH_REPLACES.contains(&self.checkpoint)
+    }
+}
+
 impl VariantFile {
     /// Loads the variants file.
     pub fn load(path: &Path) -> Result<Self, FileError> {

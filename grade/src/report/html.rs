@@ -144,7 +144,7 @@ fn pictures(h: &mut String, s: &SceneResult) {
         }
         (None, None, Some(ssim)) => figure(
             h,
-            "difference (1 − SSIM: black same, yellow very different)",
+            "difference (1 − SSIM over a faint copy of the reference: dim where the same, red to yellow where different)",
             Some(&heatmap(ssim, &s.reference)),
         ),
         _ => {}
