@@ -135,6 +135,12 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Re
     toml::from_str(text).map_err(|e| FileError::toml(file, text, &e))
 }
 
+/// Reads `file` and parses it as JSON into `T`.
+pub fn read_json<T: serde::de::DeserializeOwned>(file: &Path) -> Result<T, FileError> {
+    let text = std::fs::read_to_string(file).map_err(|e| FileError::unreadable(file, &e))?;
+    serde_json::from_str(&text).map_err(|e| FileError::json(file, &e))
+}
+
 /// Reads `file` and parses it as TOML into `T`.
 pub fn read_toml<T: serde::de::DeserializeOwned>(file: &Path) -> Result<T, FileError> {
     let text = std::fs::read_to_string(file).map_err(|e| FileError::unreadable(file, &e))?;

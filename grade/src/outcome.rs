@@ -5,7 +5,7 @@
 
 use image::RgbImage;
 
-use crate::fingerprint::Naming;
+use crate::fingerprint::{Evidence, Naming, TileSignature};
 use crate::metrics::Measured;
 use crate::noisy::NoisyVerdict;
 use crate::rubric::{Check, Checkpoint, GradedScene};
@@ -76,6 +76,23 @@ impl SceneStatus {
 }
 
 impl SceneResult {
+    /// For a tile-tested scene, the tile means of its renders and the reference's expected ones,
+    /// as signatures ([`crate::fingerprint::tiles`]).
+    pub fn tile_signatures(&self) -> Option<(TileSignature, TileSignature)> {
+        let (verdict, test) = self.tiles.as_ref().zip(self.scene.tile_test.as_ref())?;
+        let across = self.reference.width().div_ceil(test.tile);
+        Some((TileSignature::of(&verdict.yours, across), TileSignature::of(&verdict.expected, across)))
+    }
+
+    /// What naming a mistake compares this failed scene by: the tile signatures `tiles` of a
+    /// tile-tested scene, else its render's picture; `None` without a render.
+    pub fn evidence<'a>(&'a self, tiles: &'a Option<(TileSignature, TileSignature)>) -> Option<Evidence<'a>> {
+        Some(match tiles {
+            Some((mine, expected)) => Evidence::Tiles { mine, expected },
+            None => Evidence::Picture { render: self.render.as_ref()?, reference: &self.reference },
+        })
+    }
+
     /// Whether every check passed.
     pub fn passed(&self) -> bool {
         self.error.is_none() && self.checks.iter().all(|(_, m)| m.passed)

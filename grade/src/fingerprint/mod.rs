@@ -14,18 +14,26 @@
 //! draw the same picture, or a render as close to the reference as to the mistake, name nothing.
 //! When unsure, say nothing. A name never changes a point: it is a pointer to the handout.
 //!
+//! **Tile-tested scenes** are fingerprinted by their tile means instead ([`tiles`]): a failed
+//! noisy scene's renders are compared, tile by tile in standard errors, with each mistake's
+//! renders and with the reference's expected means, and the same rule applies to `−ln` of those
+//! distances with its own margin (`tile_margin`; none: tiles name nothing).
+//!
 //! A fingerprint records the reference's `inputs_hash` when it was made; once the scene changes,
 //! it is stale and left out (and the test `every_fingerprint_is_fresh_and_small` fails).
+
+pub mod tiles;
 
 use std::path::Path;
 
 use image::RgbImage;
 use serde::{Deserialize, Serialize};
 
-use crate::file_error::{parse_toml, FileError};
+use crate::file_error::{parse_toml, read_json, FileError};
 use crate::images::read_png;
 use crate::reference::Manifest;
 use crate::ssim::SsimMap;
+pub use tiles::TileSignature;
 
 /// A thumbnail's longest side, in pixels: an RGB thumbnail is at most 12 KB raw.
 pub const SIDE: u32 = 64;
@@ -51,6 +59,77 @@ pub struct Rule {
     /// How much more similar (SSIM of thumbnails) the render must be to the mistake's than to
     /// the reference and to any other mistake's.
     pub margin: f64,
+    /// The same for tile signatures: by how much `−ln` of the distance must beat the others'
+    /// (`None`: tile signatures name nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tile_margin: Option<f64>,
+}
+
+/// What a fingerprint keeps of a mistake's renders.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// A thumbnail of its render (PNG).
+    #[default]
+    Thumbnail,
+    /// Its tile means with their errors (JSON), for a tile-tested scene.
+    Tiles,
+}
+
+/// A fingerprint's content.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Signature {
+    /// A thumbnail ([`thumbnail`]).
+    Thumbnail(RgbImage),
+    /// Tile means ([`TileSignature`]).
+    Tiles(TileSignature),
+}
+
+impl Signature {
+    /// Its kind.
+    pub fn kind(&self) -> Kind {
+        match self {
+            Signature::Thumbnail(_) => Kind::Thumbnail,
+            Signature::Tiles(_) => Kind::Tiles,
+        }
+    }
+
+    /// The picture shown beside a render named by it: the thumbnail, or the tile means drawn one
+    /// pixel per tile.
+    pub fn picture(&self) -> RgbImage {
+        match self {
+            Signature::Thumbnail(image) => image.clone(),
+            Signature::Tiles(tiles) => tiles.mosaic(),
+        }
+    }
+}
+
+/// What a failed render is compared by.
+#[derive(Clone, Copy, Debug)]
+pub enum Evidence<'a> {
+    /// Its picture, with the reference's.
+    Picture {
+        /// The render.
+        render: &'a RgbImage,
+        /// The reference image.
+        reference: &'a RgbImage,
+    },
+    /// A tile-tested scene's tile means, with the reference's expected ones.
+    Tiles {
+        /// The render's.
+        mine: &'a TileSignature,
+        /// The reference's.
+        expected: &'a TileSignature,
+    },
+}
+
+impl Evidence<'_> {
+    fn kind(&self) -> Kind {
+        match self {
+            Evidence::Picture { .. } => Kind::Thumbnail,
+            Evidence::Tiles { .. } => Kind::Tiles,
+        }
+    }
 }
 
 /// One fingerprint: which mistake drew which scene.
@@ -69,12 +148,18 @@ pub struct Entry {
     pub handout: String,
     /// The scene reference's `inputs_hash` when the fingerprint was made.
     pub inputs_hash: String,
+    /// What it keeps.
+    #[serde(default)]
+    pub kind: Kind,
 }
 
 impl Entry {
-    /// The thumbnail's file name inside [`DIR`].
+    /// The fingerprint's file name inside [`DIR`].
     pub fn file_name(&self) -> String {
-        format!("{}.{}.png", self.scene, self.mistake)
+        match self.kind {
+            Kind::Thumbnail => format!("{}.{}.png", self.scene, self.mistake),
+            Kind::Tiles => format!("{}.{}.tiles.json", self.scene, self.mistake),
+        }
     }
 }
 
@@ -83,20 +168,40 @@ impl Entry {
 pub struct Naming {
     /// The mistake's fingerprint entry.
     pub entry: Entry,
-    /// SSIM of the render's thumbnail to the mistake's.
-    pub to_mistake: f64,
-    /// SSIM of the render's thumbnail to the reference's.
-    pub to_reference: f64,
-    /// The mistake's thumbnail, to show beside the render.
-    pub thumbnail: RgbImage,
+    /// How close the render is to the mistake's and to the reference.
+    pub closeness: Closeness,
+    /// The mistake's picture ([`Signature::picture`]), to show beside the render.
+    pub picture: RgbImage,
 }
 
-/// How alike a render is to the reference and to each candidate fingerprint.
+/// How close a named render is to the mistake's and to the reference, in the signature's terms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Closeness {
+    /// SSIM of thumbnails (1 is the same picture).
+    Ssim {
+        /// To the mistake's thumbnail.
+        to_mistake: f64,
+        /// To the reference's.
+        to_reference: f64,
+    },
+    /// Distances of tile means in standard errors ([`tiles`]; about 1 for the same code).
+    Tiles {
+        /// To the mistake's tile means.
+        to_mistake: f64,
+        /// To the reference's expected ones.
+        to_reference: f64,
+    },
+}
+
+/// How alike a render is to the reference and to each candidate fingerprint: SSIM of thumbnails,
+/// or `−ln` of the tile distance; larger is more alike either way.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Likeness {
-    /// SSIM of the thumbnails of the render and the reference.
+    /// Which signatures were compared.
+    pub kind: Kind,
+    /// To the reference.
     pub to_reference: f64,
-    /// The candidates, most alike first: (index into the fingerprints, SSIM).
+    /// The candidates, most alike first: (index into the fingerprints, likeness).
     pub to_mistakes: Vec<(usize, f64)>,
 }
 
@@ -111,7 +216,22 @@ impl Likeness {
 
     /// The fingerprint the rule names, by index, if any.
     pub fn named(&self, rule: Rule) -> Option<usize> {
-        (self.margin()? >= rule.margin).then(|| self.to_mistakes[0].0)
+        let margin = match self.kind {
+            Kind::Thumbnail => rule.margin,
+            Kind::Tiles => rule.tile_margin?,
+        };
+        (self.margin()? >= margin).then(|| self.to_mistakes[0].0)
+    }
+
+    /// The closeness of the best candidate, in the signature's own terms.
+    fn closeness(&self) -> Option<Closeness> {
+        let (_, best) = *self.to_mistakes.first()?;
+        Some(match self.kind {
+            Kind::Thumbnail => Closeness::Ssim { to_mistake: best, to_reference: self.to_reference },
+            Kind::Tiles => {
+                Closeness::Tiles { to_mistake: (-best).exp(), to_reference: (-self.to_reference).exp() }
+            }
+        })
     }
 }
 
@@ -120,8 +240,8 @@ impl Likeness {
 pub struct Fingerprints {
     /// The rule.
     pub rule: Rule,
-    /// Each fresh fingerprint with its thumbnail.
-    pub prints: Vec<(Entry, RgbImage)>,
+    /// Each fresh fingerprint with its signature.
+    pub prints: Vec<(Entry, Signature)>,
 }
 
 impl Fingerprints {
@@ -137,49 +257,60 @@ impl Fingerprints {
         };
         let mut prints = Vec::new();
         for entry in file.fingerprints.into_iter().filter(fresh) {
-            let image = dir.join(entry.file_name());
-            let thumbnail = read_png(&image).map_err(|e| FileError::image(&image, &e))?;
-            prints.push((entry, thumbnail));
+            let path = dir.join(entry.file_name());
+            let signature = match entry.kind {
+                Kind::Thumbnail => {
+                    Signature::Thumbnail(read_png(&path).map_err(|e| FileError::image(&path, &e))?)
+                }
+                Kind::Tiles => Signature::Tiles(read_json(&path)?),
+            };
+            prints.push((entry, signature));
         }
         Ok(Self { rule: file.rule, prints })
     }
 
-    /// How alike `render` is to `reference` and to the fingerprints of `scene` whose checkpoint
-    /// is one of `checkpoints`; `None` if the images cannot be compared.
-    pub fn likeness(
-        &self,
-        scene: &str,
-        render: &RgbImage,
-        reference: &RgbImage,
-        checkpoints: &[u32],
-    ) -> Option<Likeness> {
-        let mine = thumbnail(render);
-        let similarity = |other: &RgbImage| SsimMap::new(&mine, other).ok().map(|m| m.mean());
-        let to_reference = similarity(&thumbnail(reference))?;
-        let mut to_mistakes: Vec<(usize, f64)> = self
-            .prints
-            .iter()
-            .enumerate()
-            .filter(|(_, (e, _))| e.scene == scene && checkpoints.contains(&e.checkpoint))
-            .filter_map(|(i, (_, t))| Some((i, similarity(t)?)))
-            .collect();
+    /// How alike the failed render `evidence` is to the reference and to the fingerprints of
+    /// `scene` of its kind whose checkpoint is one of `checkpoints`; `None` if they cannot be
+    /// compared.
+    pub fn likeness(&self, scene: &str, evidence: Evidence, checkpoints: &[u32]) -> Option<Likeness> {
+        let kind = evidence.kind();
+        let candidates = self.prints.iter().enumerate().filter(|(_, (e, signature))| {
+            e.scene == scene && checkpoints.contains(&e.checkpoint) && signature.kind() == kind
+        });
+        let (to_reference, mut to_mistakes): (f64, Vec<(usize, f64)>) = match evidence {
+            Evidence::Picture { render, reference } => {
+                let mine = thumbnail(render);
+                let similarity = |other: &RgbImage| SsimMap::new(&mine, other).ok().map(|m| m.mean());
+                let to_mistakes = candidates
+                    .filter_map(|(i, (_, s))| match s {
+                        Signature::Thumbnail(t) => Some((i, similarity(t)?)),
+                        Signature::Tiles(_) => None,
+                    })
+                    .collect();
+                (similarity(&thumbnail(reference))?, to_mistakes)
+            }
+            Evidence::Tiles { mine, expected } => {
+                let likeness = |other: &TileSignature| mine.distance(other).map(|d| -d.ln());
+                let to_mistakes = candidates
+                    .filter_map(|(i, (_, s))| match s {
+                        Signature::Tiles(t) => Some((i, likeness(t)?)),
+                        Signature::Thumbnail(_) => None,
+                    })
+                    .collect();
+                (likeness(expected)?, to_mistakes)
+            }
+        };
         to_mistakes.sort_by(|a, b| b.1.total_cmp(&a.1));
-        Some(Likeness { to_reference, to_mistakes })
+        Some(Likeness { kind, to_reference, to_mistakes })
     }
 
-    /// The known mistake `render` of `scene` shows, if the rule names one (module docs).
-    pub fn name(
-        &self,
-        scene: &str,
-        render: &RgbImage,
-        reference: &RgbImage,
-        checkpoints: &[u32],
-    ) -> Option<Naming> {
-        let likeness = self.likeness(scene, render, reference, checkpoints)?;
+    /// The known mistake the failed render `evidence` of `scene` shows, if the rule names one
+    /// (module docs).
+    pub fn name(&self, scene: &str, evidence: Evidence, checkpoints: &[u32]) -> Option<Naming> {
+        let likeness = self.likeness(scene, evidence, checkpoints)?;
         let index = likeness.named(self.rule)?;
-        let (entry, thumbnail) = self.prints[index].clone();
-        let (to_mistake, to_reference) = (likeness.to_mistakes[0].1, likeness.to_reference);
-        Some(Naming { entry, to_mistake, to_reference, thumbnail })
+        let (entry, signature) = &self.prints[index];
+        Some(Naming { entry: entry.clone(), closeness: likeness.closeness()?, picture: signature.picture() })
     }
 }
 
@@ -217,6 +348,7 @@ mod tests {
             description: format!("{mistake}, described"),
             handout: "checkpoints/02-triangle.md".into(),
             inputs_hash: "0".into(),
+            kind: Kind::Thumbnail,
         }
     }
 
@@ -241,24 +373,30 @@ mod tests {
         assert_eq!(thumbnail(&RgbImage::new(20, 20)).dimensions(), (20, 20), "small images stay");
     }
 
+    fn seen<'a>(render: &'a RgbImage, reference: &'a RgbImage) -> Evidence<'a> {
+        Evidence::Picture { render, reference }
+    }
+
     #[test]
     fn the_closest_mistake_is_named_and_only_when_clearly_closer() {
         let reference = picture([255, 255, 255], 30.0);
         let black = picture([0, 0, 0], 30.0);
         let small = picture([255, 255, 255], 10.0);
+        let print = |image: &RgbImage| Signature::Thumbnail(thumbnail(image));
         let prints = Fingerprints {
-            rule: Rule { margin: 0.05 },
+            rule: Rule { margin: 0.05, tile_margin: None },
             prints: vec![
-                (entry("room", "black_disc", 2), thumbnail(&black)),
-                (entry("room", "small_disc", 2), thumbnail(&small)),
-                (entry("room", "black_disc_of_4", 4), thumbnail(&black)),
+                (entry("room", "black_disc", 2), print(&black)),
+                (entry("room", "small_disc", 2), print(&small)),
+                (entry("room", "black_disc_of_4", 4), print(&black)),
             ],
         };
-        let named = prints.name("room", &black, &reference, &[2]).expect("named");
+        let named = prints.name("room", seen(&black, &reference), &[2]).expect("named");
         assert_eq!(named.entry.mistake, "black_disc");
-        assert!(named.to_mistake > named.to_reference + 0.05, "{} {}", named.to_mistake, named.to_reference);
+        let Closeness::Ssim { to_mistake, to_reference } = named.closeness else { panic!("by SSIM") };
+        assert!(to_mistake > to_reference + 0.05, "{to_mistake} {to_reference}");
         let name = |scene: &str, render: &RgbImage, checkpoints: &[u32]| {
-            prints.name(scene, render, &reference, checkpoints).map(|n| n.entry.mistake)
+            prints.name(scene, seen(render, &reference), checkpoints).map(|n| n.entry.mistake)
         };
         // A correct render is the reference: nothing is named.
         assert_eq!(name("room", &reference, &[2]), None);
@@ -269,9 +407,45 @@ mod tests {
         assert_eq!(name("room", &black, &[3]), None);
         // A render nearer the reference than any mistake names nothing.
         let light = picture([200, 200, 200], 30.0);
-        let likeness = prints.likeness("room", &light, &reference, &[2]).unwrap();
+        let likeness = prints.likeness("room", seen(&light, &reference), &[2]).unwrap();
         assert!(likeness.to_reference > likeness.to_mistakes[0].1, "{likeness:?}");
         assert_eq!(likeness.named(prints.rule), None);
+    }
+
+    /// Tile means (`tiles` of 0.5 with standard error 0.01, one tile at `off`).
+    fn tiles(off: f64) -> TileSignature {
+        let tile = |m: f64| [raylab_base::stats::Summary { mean: m, variance: 16.0 * 1e-4, n: 16.0 }; 3];
+        let summaries: Vec<_> = (0..16).map(|k| tile(if k == 5 { off } else { 0.5 })).collect();
+        TileSignature::of(&summaries, 4)
+    }
+
+    /// On a tile-tested scene the tile signatures decide, by their own margin: renders like a
+    /// mistake's tile means are named, a correct one is not, and no margin names nothing.
+    #[test]
+    fn tile_means_name_a_mistake_by_the_tile_margin() {
+        let mut tiled = entry("cornell_path", "bright_tile", 9);
+        tiled.kind = Kind::Tiles;
+        let mut prints = Fingerprints {
+            rule: Rule { margin: 0.05, tile_margin: Some(0.5) },
+            prints: vec![
+                (tiled, Signature::Tiles(tiles(0.8))),
+                (entry("cornell_path", "a_thumbnail", 9), Signature::Thumbnail(RgbImage::new(16, 16))),
+            ],
+        };
+        let expected = tiles(0.5);
+        let name = |prints: &Fingerprints, mine: &TileSignature| {
+            prints.name("cornell_path", Evidence::Tiles { mine, expected: &expected }, &[9])
+        };
+        // Like the mistake up to noise: z of 0.5 on its tile, and 22 from the reference.
+        let named = name(&prints, &tiles(0.807)).expect("named");
+        assert_eq!(named.entry.mistake, "bright_tile");
+        let Closeness::Tiles { to_mistake, to_reference } = named.closeness else { panic!("by tiles") };
+        assert!(to_mistake < 1.0 && to_reference > 3.0, "{to_mistake} {to_reference}");
+        assert_eq!(named.picture.dimensions(), (4, 4), "the mistake's tile means, a pixel each");
+        assert_eq!(name(&prints, &tiles(0.5)), None, "a correct render");
+        assert_eq!(name(&prints, &tiles(0.65)), None, "halfway: unsure");
+        prints.rule.tile_margin = None;
+        assert_eq!(name(&prints, &tiles(0.807)), None, "no tile margin: tiles name nothing");
     }
 
     /// The fingerprints the repository ships: each fresh (made from the current scene), each at

@@ -238,7 +238,8 @@ fn name_mistake(
         Blame::Isolated => graded.contains(id),
     };
     let checkpoints: Vec<u32> = s.scene.depends_on.iter().copied().filter(students).collect();
-    fingerprints.name(&s.scene.name, s.render.as_ref()?, &s.reference, &checkpoints)
+    let tiles = s.tile_signatures();
+    fingerprints.name(&s.scene.name, s.evidence(&tiles)?, &checkpoints)
 }
 
 /// The checkpoints still the starter's stubs: given, or read from the code. In an isolated grade

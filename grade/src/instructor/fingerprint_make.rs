@@ -10,6 +10,10 @@
 //! every correct alternative on every public scene, and the solution on each tile-tested scene
 //! at seeds 1 to [`CORRECT_SEEDS`].
 //!
+//! On a tile-tested scene the fingerprint is the mistake's tile means instead of a thumbnail
+//! ([`crate::fingerprint::tiles`]), and its margin is set apart from the thumbnails' by the same
+//! rule, with its own gap ([`TILE_GAP`]).
+//!
 //! **Thresholds on one half, reported on the other.** The mistakes of each checkpoint are dealt
 //! alternately into two halves, each with its held-out renders, and the correct renders alike.
 //! On one half the margin is set to the lowest that names no correct render and no mistake
@@ -25,7 +29,10 @@ use image::RgbImage;
 use indicatif::ProgressBar;
 
 use crate::file_error::FileError;
-use crate::fingerprint::{thumbnail, Entry, FingerprintFile, Fingerprints, Likeness, Rule, DIR};
+use crate::fingerprint::{
+    thumbnail, Entry, Evidence, FingerprintFile, Fingerprints, Kind, Likeness, Rule, Signature,
+    TileSignature, DIR,
+};
 use crate::grading::checked_rubric;
 use crate::images::write_png;
 use crate::instructor::calibrate::grade_report;
@@ -43,6 +50,11 @@ pub const CORRECT_SEEDS: u64 = 20;
 /// What the margin adds to the largest it must exceed on the tuning half (SSIM).
 pub const GAP: f64 = 0.02;
 
+/// The same for tile signatures, whose likeness is `−ln` of a root-mean-square `z` over the
+/// scene's 300 tile means: for renders of the same code, the mean of 300 `z²` has a standard
+/// deviation of about `sqrt(2 / 300) = 0.08`, so its log about 0.04; the gap is 2.5 of those.
+pub const TILE_GAP: f64 = 0.1;
+
 /// One render of one scene by one variant.
 struct Shot {
     /// The variant.
@@ -53,8 +65,27 @@ struct Shot {
     seed: Option<u64>,
     render: RgbImage,
     reference: RgbImage,
+    /// On a tile-tested scene, its tile means and the reference's expected ones.
+    tiles: Option<(TileSignature, TileSignature)>,
     /// The checkpoints the scene runs.
     depends_on: Vec<u32>,
+}
+
+impl Shot {
+    fn evidence(&self) -> Evidence<'_> {
+        match &self.tiles {
+            Some((mine, expected)) => Evidence::Tiles { mine, expected },
+            None => Evidence::Picture { render: &self.render, reference: &self.reference },
+        }
+    }
+
+    fn kind(&self) -> Kind {
+        if self.tiles.is_some() {
+            Kind::Tiles
+        } else {
+            Kind::Thumbnail
+        }
+    }
 }
 
 /// What `grader fingerprints` made: the fingerprints (written) and the naming table.
@@ -88,11 +119,10 @@ pub fn make(root: &Path, progress: &ProgressBar) -> Result<Made, InstructorError
         .iter()
         .filter(|s| s.truth.is_none() || s.seed.is_some() || !named_by.contains_key(s.variant.as_str()))
         .collect();
-    let (margins, mut table) = table(&judge(&held_out, &prints), &named_by);
+    let (rule, mut table) = table(&judge(&held_out, &prints), &named_by);
     if !unrendered.is_empty() {
         let _ = writeln!(table, "\nNot rendered (left out): {}.", unrendered.join("; "));
     }
-    let rule = Rule { margin: margins[0].max(margins[1]) };
     write(&root, rule, &prints)?;
     Ok(Made { rule, count: prints.len(), table })
 }
@@ -148,6 +178,7 @@ fn render(
             let scenes: Vec<String> = wanted.iter().filter(|w| w.1 == seed).map(|w| w.0.clone()).collect();
             let report = grade_report(&tree, &target, seed, Some(scenes), variant.may_render_wide())?;
             for s in report.scenes {
+                let tiles = s.tile_signatures();
                 let Some(render) = s.render else {
                     let why = s.error.map(|e| e.to_string()).unwrap_or_default();
                     unrendered.push(format!("{} on {} (seed {seed:?}): {why}", variant.name, s.scene.name));
@@ -160,6 +191,7 @@ fn render(
                     seed,
                     render,
                     reference: s.reference,
+                    tiles,
                     depends_on: s.scene.depends_on,
                 });
             }
@@ -175,7 +207,7 @@ fn fingerprints(
     named_by: &BTreeMap<&str, &Variant>,
     rubric: &Rubric,
     manifest: &Manifest,
-) -> Result<Vec<(Entry, RgbImage)>, InstructorError> {
+) -> Result<Vec<(Entry, Signature)>, InstructorError> {
     let mut prints = Vec::new();
     for shot in shots.iter().filter(|s| s.seed.is_none()) {
         let Some(v) = named_by.get(shot.variant.as_str()) else { continue };
@@ -195,8 +227,13 @@ fn fingerprints(
             description: v.description.clone(),
             handout: handout.display().to_string(),
             inputs_hash: reference.inputs_hash.clone(),
+            kind: shot.kind(),
         };
-        prints.push((entry, thumbnail(&shot.render)));
+        let signature = match &shot.tiles {
+            Some((mine, _)) => Signature::Tiles(mine.clone()),
+            None => Signature::Thumbnail(thumbnail(&shot.render)),
+        };
+        prints.push((entry, signature));
     }
     Ok(prints)
 }
@@ -211,9 +248,9 @@ struct Judged<'a> {
 }
 
 impl Judged<'_> {
-    /// The mistake named under `margin`, if any.
-    fn named(&self, margin: f64) -> Option<&str> {
-        self.likeness.named(Rule { margin }).map(|i| self.names[i].as_str())
+    /// The mistake named under `rule`, if any.
+    fn named(&self, rule: Rule) -> Option<&str> {
+        self.likeness.named(rule).map(|i| self.names[i].as_str())
     }
 
     /// Whether naming it at all would be wrong: a correct render, or a mistake taken for another.
@@ -225,7 +262,7 @@ impl Judged<'_> {
 
 /// Each held-out render's likeness, dealt into halves: the mistakes of each checkpoint
 /// alternately (a second variant and the seeds of a mistake go with it), correct renders alike.
-fn judge<'a>(held_out: &[&'a Shot], prints: &[(Entry, RgbImage)]) -> Vec<Judged<'a>> {
+fn judge<'a>(held_out: &[&'a Shot], prints: &[(Entry, Signature)]) -> Vec<Judged<'a>> {
     let fingerprints = Fingerprints { rule: Rule::default(), prints: prints.to_vec() };
     let names: Vec<String> = prints.iter().map(|(e, _)| e.mistake.clone()).collect();
     let mut mistakes: Vec<(u32, &str)> =
@@ -251,25 +288,44 @@ fn judge<'a>(held_out: &[&'a Shot], prints: &[(Entry, RgbImage)]) -> Vec<Judged<
                     correct % 2
                 }
             };
-            let likeness =
-                fingerprints.likeness(&shot.scene, &shot.render, &shot.reference, &shot.depends_on)?;
+            let likeness = fingerprints.likeness(&shot.scene, shot.evidence(), &shot.depends_on)?;
             Some(Judged { shot, half, likeness, names: names.clone() })
         })
         .collect()
 }
 
-/// The margin each half sets (module docs), and the table of the other half judged by it.
-fn table(judged: &[Judged], named_by: &BTreeMap<&str, &Variant>) -> ([f64; 2], String) {
-    let margins = [0, 1].map(|half| {
-        let bad = judged.iter().filter(|j| j.half == half && j.must_not_be_named());
-        bad.filter_map(|j| j.likeness.margin()).fold(0.0f64, f64::max) + GAP
-    });
-    let shipped = margins[0].max(margins[1]);
+/// The rule each half sets (module docs): per kind of signature, the largest margin a render that
+/// must not be named reaches there, plus the kind's gap.
+fn rules(judged: &[Judged]) -> [Rule; 2] {
+    [0, 1].map(|half| {
+        let set = |kind: Kind, gap: f64| {
+            let bad =
+                judged.iter().filter(|j| j.half == half && j.shot.kind() == kind && j.must_not_be_named());
+            bad.filter_map(|j| j.likeness.margin()).fold(0.0f64, f64::max) + gap
+        };
+        Rule { margin: set(Kind::Thumbnail, GAP), tile_margin: Some(set(Kind::Tiles, TILE_GAP)) }
+    })
+}
+
+/// The rule shipped (each margin the larger of the halves'), and the table of each half judged by
+/// the other's rule.
+fn table(judged: &[Judged], named_by: &BTreeMap<&str, &Variant>) -> (Rule, String) {
+    let rules = rules(judged);
+    let tile = |r: Rule| r.tile_margin.unwrap_or(f64::INFINITY);
+    let shipped = Rule {
+        margin: rules[0].margin.max(rules[1].margin),
+        tile_margin: Some(tile(rules[0]).max(tile(rules[1]))),
+    };
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "Margins set on each half: {:.4} and {:.4}; shipped: {shipped:.4}.\n",
-        margins[0], margins[1]
+        "Margins set on each half: thumbnails {:.4} and {:.4}, tile means {:.4} and {:.4}; shipped: {:.4} and {:.4}.\n",
+        rules[0].margin,
+        rules[1].margin,
+        tile(rules[0]),
+        tile(rules[1]),
+        shipped.margin,
+        tile(shipped)
     );
     let _ = writeln!(out, "| mistake | checkpoint | held-out renders | named | not named | named wrongly | named at the shipped margin |");
     let _ = writeln!(out, "|---|---|---|---|---|---|---|");
@@ -277,8 +333,8 @@ fn table(judged: &[Judged], named_by: &BTreeMap<&str, &Variant>) -> ([f64; 2], S
     rows.sort_by_key(|(n, v)| (v.checkpoint, *n));
     for (name, v) in rows {
         let mine: Vec<&Judged> = judged.iter().filter(|j| j.shot.truth.as_deref() == Some(name)).collect();
-        // Judged with the margin the other half set.
-        let margin = |j: &Judged| margins[1 - j.half];
+        // Judged with the rule the other half set.
+        let margin = |j: &Judged| rules[1 - j.half];
         let right = mine.iter().filter(|j| j.named(margin(j)) == Some(name)).count();
         let wrong: Vec<String> = mine
             .iter()
@@ -299,7 +355,7 @@ fn table(judged: &[Judged], named_by: &BTreeMap<&str, &Variant>) -> ([f64; 2], S
     let correct: Vec<&Judged> = judged.iter().filter(|j| j.shot.truth.is_none()).collect();
     let named: Vec<String> = correct
         .iter()
-        .filter_map(|j| j.named(margins[1 - j.half]).map(|n| format!("{} as {n}", shot_label(j.shot))))
+        .filter_map(|j| j.named(rules[1 - j.half]).map(|n| format!("{} as {n}", shot_label(j.shot))))
         .collect();
     let _ = writeln!(
         out,
@@ -312,7 +368,7 @@ fn table(judged: &[Judged], named_by: &BTreeMap<&str, &Variant>) -> ([f64; 2], S
     if !named.is_empty() {
         let _ = writeln!(out, "\nCorrect renders named: {}.", named.join("; "));
     }
-    (margins, out)
+    (shipped, out)
 }
 
 fn shot_label(shot: &Shot) -> String {
@@ -322,16 +378,25 @@ fn shot_label(shot: &Shot) -> String {
     }
 }
 
-/// Writes the thumbnails and the manifest, replacing the folder's previous fingerprints.
-fn write(root: &Path, rule: Rule, prints: &[(Entry, RgbImage)]) -> Result<(), FileError> {
+/// Writes the signatures and the manifest, replacing the folder's previous fingerprints.
+fn write(root: &Path, rule: Rule, prints: &[(Entry, Signature)]) -> Result<(), FileError> {
     let dir = root.join(DIR);
     if dir.exists() {
         std::fs::remove_dir_all(&dir).map_err(|e| FileError::unwritable(&dir, &e))?;
     }
     std::fs::create_dir_all(&dir).map_err(|e| FileError::unwritable(&dir, &e))?;
-    for (entry, image) in prints {
+    for (entry, signature) in prints {
         let path = dir.join(entry.file_name());
-        write_png(&path, image).map_err(|e| FileError::image(&path, &e))?;
+        match signature {
+            Signature::Thumbnail(image) => {
+                write_png(&path, image).map_err(|e| FileError::image(&path, &e))?
+            }
+            Signature::Tiles(tiles) => {
+                let text = serde_json::to_string(tiles).expect("a signature holds only numbers and lists");
+                raylab_base::image_io::write_file_atomic(&path, text.as_bytes())
+                    .map_err(|e| FileError::unwritable(&path, &e))?
+            }
+        }
     }
     let file = FingerprintFile { rule, fingerprints: prints.iter().map(|(e, _)| e.clone()).collect() };
     let text = toml::to_string(&file).expect("a manifest is plain data");

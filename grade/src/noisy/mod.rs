@@ -46,7 +46,7 @@ use raylab_base::stats::{welch, Summary};
 
 use crate::stats::{sidak, RankTest};
 
-use crate::file_error::FileError;
+use crate::file_error::{read_json, FileError};
 
 /// Below this fraction of the solution's standard deviation a tile's renders count as not
 /// varying with the seed (module docs): 17 times below the lowest a correct render was seen at.
@@ -193,6 +193,10 @@ pub struct NoisyVerdict {
     /// The p-value above which a tile is as a correct render's would be ([`CALM_RATE`]): a map
     /// colours only the tiles below it.
     pub calm: f64,
+    /// Per tile, the submission's tile means over its renders (what naming a mistake compares).
+    pub yours: Vec<[Summary; 3]>,
+    /// Per tile, the expected means, as in the reference.
+    pub expected: Vec<[Summary; 3]>,
 }
 
 impl NoisyVerdict {
@@ -213,7 +217,14 @@ pub const CALM_RATE: f64 = 0.05;
 pub fn compare(submission: &[Vec<[f64; 3]>], reference: &NoisyReference, alpha: f64) -> NoisyVerdict {
     let (failures, tiles) = test_tiles(submission, reference, sidak(alpha, tests(submission)));
     let calm = calm_level(reference, submission.len(), tests(submission));
-    NoisyVerdict { failures, level: sidak(alpha, tests(submission)), tiles, calm }
+    NoisyVerdict {
+        failures,
+        level: sidak(alpha, tests(submission)),
+        tiles,
+        calm,
+        yours: summarise(submission),
+        expected: reference.expected.clone(),
+    }
 }
 
 /// Two tests per tile and channel.
@@ -343,8 +354,7 @@ impl TileFile {
 
     /// Reads the file.
     pub fn read(path: &Path) -> Result<TileFile, FileError> {
-        let text = std::fs::read_to_string(path).map_err(|e| FileError::unreadable(path, &e))?;
-        serde_json::from_str(&text).map_err(|e| FileError::json(path, &e))
+        read_json(path)
     }
 
     /// Writes the file (to a temporary name, then renamed).

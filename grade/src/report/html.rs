@@ -7,6 +7,7 @@ use std::fmt::Write;
 use base64::Engine;
 use image::RgbImage;
 
+use crate::fingerprint::Closeness;
 use crate::noisy::{tile_origin, NoisyVerdict};
 use crate::outcome::{GradeReport, SceneResult, SceneStatus};
 use crate::report::heatmap::heatmap;
@@ -152,8 +153,12 @@ fn pictures(h: &mut String, s: &SceneResult) {
     if let Some(n) = &s.named {
         // The mistake's fingerprint, enlarged to the render's size, pixels kept square.
         let (w, h_) = s.reference.dimensions();
-        let enlarged = image::imageops::resize(&n.thumbnail, w, h_, image::imageops::FilterType::Nearest);
-        figure(h, &format!("looks like this known mistake: {}", n.entry.description), Some(&enlarged));
+        let enlarged = image::imageops::resize(&n.picture, w, h_, image::imageops::FilterType::Nearest);
+        let what = match n.closeness {
+            Closeness::Ssim { .. } => "",
+            Closeness::Tiles { .. } => " (its tile means)",
+        };
+        figure(h, &format!("looks like this known mistake{what}: {}", n.entry.description), Some(&enlarged));
     }
     h.push_str("</div>\n");
 }

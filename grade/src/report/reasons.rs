@@ -1,7 +1,7 @@
 //! The words of a verdict ([`crate::verdict`]): why a checkpoint lost points, why a failed scene
 //! costs one nothing, what to read. Text, HTML and Gradescope's JSON all say it in these words.
 
-use crate::fingerprint::Naming;
+use crate::fingerprint::{Closeness, Naming};
 use crate::noisy::{Channel, TileFailure, TileProblem};
 use crate::outcome::CheckpointResult;
 use crate::rubric::Checkpoint;
@@ -154,9 +154,17 @@ pub fn hint_text(checkpoint: &Checkpoint) -> String {
 /// mistake's render, 0.1041 to the reference); read checkpoints/02-triangle.md, ...`.
 pub fn named_text(scene: &str, named: &Naming) -> String {
     let e = &named.entry;
+    let evidence = match named.closeness {
+        Closeness::Ssim { to_mistake, to_reference } => {
+            format!("{to_mistake:.4} to that mistake's render, {to_reference:.4} to the reference")
+        }
+        Closeness::Tiles { to_mistake, to_reference } => format!(
+            "tile means {to_mistake:.2} standard errors from that mistake's renders, {to_reference:.2} from the reference, root mean square"
+        ),
+    };
     format!(
-        "scene {scene} looks like a known mistake of checkpoint {}: {} ({:.4} to that mistake's render, {:.4} to the reference); read {}, section \"Symptoms of common mistakes\"",
-        e.checkpoint, e.description, named.to_mistake, named.to_reference, e.handout
+        "scene {scene} looks like a known mistake of checkpoint {}: {} ({evidence}); read {}, section \"Symptoms of common mistakes\"",
+        e.checkpoint, e.description, e.handout
     )
 }
 

@@ -75,7 +75,7 @@ mod tests {
                 problem: TileProblem::NotFinite { mean: f64::NAN },
             })
             .collect();
-        NoisyVerdict { failures, level: 1e-6, tiles, calm: 1e-3 }
+        NoisyVerdict { failures, level: 1e-6, tiles, calm: 1e-3, yours: Vec::new(), expected: Vec::new() }
     }
 
     /// Calm tiles stay grey; a tile below the calm level is tinted its direction's colour; a

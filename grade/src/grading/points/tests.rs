@@ -3,7 +3,7 @@
 
 use super::*;
 
-use crate::fingerprint::Naming;
+use crate::fingerprint::{Closeness, Naming};
 use crate::outcome::SceneStatus;
 use crate::report::reasons::{advice_line, kept_text, reason_lines};
 use crate::rubric::Rubric;
@@ -48,8 +48,10 @@ fn a_named_mistake_follows_the_lost_scene() {
         description: "back faces culled".into(),
         handout: "checkpoints/02-triangle.md".into(),
         inputs_hash: String::new(),
+        kind: crate::fingerprint::Kind::Thumbnail,
     };
-    let named = Naming { entry, to_mistake: 0.99, to_reference: 0.1, thumbnail: RgbImage::new(1, 1) };
+    let closeness = Closeness::Ssim { to_mistake: 0.99, to_reference: 0.1 };
+    let named = Naming { entry, closeness, picture: RgbImage::new(1, 1) };
     let scene = SceneResult { named: Some(named), ..failed_scene(&rubric, "room") };
     let tests = runs(|id| id == 2);
     let two = score_checkpoint(&rubric.checkpoints[1], &[scene], &culprit(&tests, &[]));
