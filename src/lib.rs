@@ -4,7 +4,7 @@
 //!
 //! | checkpoint | task | where | tests |
 //! |---|---|---|---|
-//! | 1 | environment: scenes load, camera rays, PNG output | [`scene`], [`camera`], [`image_io`] | `cargo test checkpoint1` |
+//! | 1 | environment, nothing to write: scenes load, camera rays, PNG output | [`scene`], [`camera`], [`image_io`] | `cargo test checkpoint1` |
 //! | 2 | ray-triangle intersection (Möller-Trumbore) | `src/geometry/triangle.rs`: [`geometry::intersect_triangle`] | `cargo test checkpoint2` |
 //! | 3 | ray-box intersection (slab test) | `src/geometry/aabb.rs`: [`geometry::Aabb::intersect`] | `cargo test checkpoint3` |
 //! | 4 | BVH: object-median split and traversal | `src/geometry/bvh/split.rs`, `src/geometry/bvh/traverse.rs` | `cargo test checkpoint4` |
@@ -14,8 +14,8 @@
 //! | 8 (extra) | area lights, Monte Carlo direct lighting | `src/light/area.rs`, `src/light/choice.rs`, `src/integrator/monte_carlo_direct.rs` | `cargo test checkpoint8` |
 //! | 9 (extra) | path tracing: cosine sampling, next-event estimation, Russian roulette | `src/hemisphere.rs`, `src/integrator/path_tracer.rs` | `cargo test checkpoint9` |
 //!
-//! Every task's code sits between `// BEGIN SOLUTION checkpointN` and `// END SOLUTION`; the
-//! student starter replaces it with `todo!()`. The conventions all checkpoints share (ray ranges,
+//! Every task's code sits between `// BEGIN SOLUTION checkpointN` and `// END SOLUTION` (in the
+//! student starter, a `todo!()`: the code written there, and only there, is graded). The conventions all checkpoints share (ray ranges,
 //! `wo`/`wi`, normals, `eta`) are in [`math`]. [`stats`] holds the statistical tests that judge
 //! Monte Carlo estimates (t and chi-square tails, Welch's test).
 //!

@@ -1,6 +1,7 @@
 //! Rays and the conventions every checkpoint shares.
 //!
-//! Every checkpoint header links here: read this once and the rest of raylab follows it.
+//! The checkpoint headers link here for what they share: read this once and the rest of raylab
+//! follows it.
 //!
 //! # Conventions
 //! - **Units and colour.** Positions in scene units, radiance in linear RGB (`Vec3`, f32). sRGB

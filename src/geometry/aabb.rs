@@ -1,7 +1,8 @@
 //! Checkpoint 3: ray-box intersection (the slab test).
 //!
-//! **Task.** Write [`Aabb::intersect`]: the part of the ray's range `[t_min, t_max]` that lies
-//! inside the box, as `Some((t_in, t_out))`, or `None` if the ray misses the box in that range.
+//! **Task.** Write [`Aabb::intersect`]: the part of the ray's range from `t_min` to `t_max` that
+//! lies inside the box, as `Some((t_in, t_out))` with both ends counted, or `None` if the ray
+//! misses the box in that range.
 //!
 //! **Maths.** The box is the intersection of three slabs `min_i ≤ x_i ≤ max_i`. Along axis `i` the
 //! ray is inside its slab for `t` between `(min_i − o_i) / d_i` and `(max_i − o_i) / d_i` (swap
@@ -16,19 +17,23 @@
 //! Multiply by `ray.inv_dir` instead of dividing by `ray.dir`: it is cheaper, and it gives the
 //! right infinities for zero components.
 //!
-//! **Conventions.** The result is a *closed* interval: a flat box (`min_i == max_i`, such as the
-//! bounds of a Cornell wall) has `t_in == t_out` and is hit. Ranges follow [`crate::math`].
+//! **Conventions.** The result is a *closed* interval `[t_in, t_out]`, unlike a ray's hits, whose
+//! range is open ([`crate::math`]): a flat box (`min_i == max_i`, such as the bounds of a Cornell
+//! wall) has `t_in == t_out` and is hit, and a ray starting inside a box gets `t_in == t_min`. A box
+//! only tells the BVH where to look; the triangle test inside it applies the open range.
 //!
 //! **Pitfalls.**
 //! - Negative directions: the near plane is `max_i`, not `min_i`. Decide the swap from the sign of
 //!   `inv_dir` (`−0.0` gives `−∞`), not by `d_i < 0` (false for `−0.0`: the test
-//!   `negative_directions_swap_near_and_far` tries it) nor by `min(t0, t1)`, which goes wrong
-//!   with NaN below.
+//!   `negative_directions_swap_near_and_far` tries it).
 //! - Zero direction components: `inv_dir = ±∞`, and `(min_i − o_i) · ∞` is `±∞`, which is right
 //!   (the slab is either everything or nothing). But if `o_i` lies exactly on a slab plane,
-//!   `0 · ∞ = NaN`. Any comparison with NaN is false, so `if near > t_in { t_in = near }` ignores
-//!   that plane (so do `f32::max` and `f32::min`, which return the other operand), and that is
-//!   the right answer: a ray lying in the plane of a closed slab is inside it for all `t`.
+//!   `0 · ∞ = NaN`. Merging it into the interval ignores it: any comparison with NaN is false, so
+//!   `if near > t_in { t_in = near }` keeps `t_in`, and so do `t_in.max(near)` and
+//!   `t_out.min(far)` (f32's `max` and `min` return the other operand). That is the right
+//!   answer: a ray lying in the plane of a closed slab is inside it for all `t`. Picking near and
+//!   far themselves with `t0.min(t1)` and `t0.max(t1)` is not: with one of them NaN, both give
+//!   the other, near and far become the same infinity, and the ray misses a slab it lies in.
 //! - Start from the ray's own `t_min` and `t_max` (not from `−∞`), or boxes behind the origin
 //!   count as hits.
 //! - `t_in < t_out` instead of `≤` misses flat boxes: the walls of a Cornell box.

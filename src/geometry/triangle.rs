@@ -23,15 +23,19 @@
 //! **Pitfalls.**
 //! - Rejecting `det < 0` culls back faces: walls seen from inside and rays leaving glass vanish.
 //! - "Parallel" must be judged relative to the triangle's size: `|det| = |d| |e1 × e2| |cos θ|`,
-//!   so a bare `|det| < 1e-8` rejects small triangles seen head-on and accepts huge ones seen
-//!   edge-on. Compare `|det|` with `|e1 × e2|` instead (raylab uses `1e-7 · |e1 × e2|`, a cosine
-//!   of 1e-7 between the ray and the plane), with `<=`: a degenerate triangle
-//!   (`e1 × e2 = 0`, so `det = 0`) then misses too (with `<`, `0 < 0` is false and the division
-//!   by `det` gives a NaN hit). That comparison needs a square root: make it last, for the few
-//!   rays that pass every other test.
+//!   with `θ` the angle between the ray and the triangle's normal, so a bare `|det| < 1e-8`
+//!   rejects small triangles seen head-on and accepts huge ones seen edge-on. Compare `|det|`
+//!   with `|e1 × e2|` instead (raylab counts `|det| <= 1e-7 · |e1 × e2|` as parallel: `|cos θ|`
+//!   below 1e-7), with `<=`: a degenerate triangle (`e1 × e2 = 0`, so `det = 0`) then misses too
+//!   (with `<`, `0 < 0` is false and the division by `det` gives a NaN hit). The length of
+//!   `e1 × e2` costs a square root, so raylab returns early on `det == 0` (dividing is then safe)
+//!   and makes this comparison last, for the few rays that pass every other test; comparing
+//!   the squares of both sides avoids the root too.
 //! - Test `b1` before computing `Q`, and `b1 + b2 ≤ 1`, not `b2 ≤ 1`.
 //! - Accepting `t < t_min` shows what is behind the camera (and mirrored copies).
-//! - Forgetting `t_max` makes the closest-hit search in the BVH (checkpoint 4) return far hits.
+//! - Forgetting `t_max` lets a farther triangle replace a nearer one in every closest-hit search
+//!   (the loop over all triangles `render` uses until checkpoints 3 and 4 are written, then the
+//!   BVH): far surfaces cover near ones, in `room` already.
 //!
 //! **Check:** `cargo test checkpoint2`. Handout: `checkpoints/02-triangle.md`.
 
@@ -209,7 +213,7 @@ mod checkpoint2 {
         let got = intersect_triangle(&away, p0, p1, p2);
         assert!(
             got.is_none(),
-            "the triangle is behind the ray (t < 0 < t_min): expected a miss, got {got:?}"
+            "the triangle is behind the ray (t = -1, not above t_min = 0): expected a miss, got {got:?}"
         );
     }
 

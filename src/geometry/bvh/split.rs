@@ -11,9 +11,8 @@
 //! **Conventions.** The split reorders `prims` in place and returns where the second half starts;
 //! the harness ([`super::build_node`]) recurses into both halves and makes leaves of at most 4
 //! triangles, stored flat, depth first: a node's first child is the next node, the second is at
-//! its `second_child`. Both halves
-//! are non-empty whenever `n ≥ 2`: the median split always makes progress, even when every
-//! centroid is the same point.
+//! its `second_child`. Both halves are non-empty whenever `n ≥ 2`: the median split always makes
+//! progress, even when every centroid is the same point.
 //!
 //! **Pitfalls.**
 //! - Splitting by the node's *bounds* instead of the *centroid* bounds picks bad axes for long

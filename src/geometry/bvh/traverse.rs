@@ -7,12 +7,16 @@
 //! **Algorithm.** Depth first with an explicit stack (no recursion): start at the root; at a
 //! node whose box the ray meets, a leaf tests its triangles, an interior node continues with its
 //! *near* child and pushes the far one. Near is the first child when the ray travels toward
-//! increasing coordinates on the node's split axis (`dir[axis] ≥ 0`), else the second. Every hit
-//! shrinks the ray's `t_max` to its `t`, so boxes beyond the closest hit so far are skipped.
+//! increasing coordinates on the node's split axis (`dir[axis] ≥ 0`), else the second (only
+//! speed depends on this order, so a `−0.0` component may go either way, unlike checkpoint 3's
+//! swap). Every hit shrinks `t_max` to its `t`, so boxes beyond the closest hit so far are
+//! skipped: `ray` is borrowed, so work on a copy (`let mut ray = *ray;`).
 //!
 //! **Conventions.** Count every box test and triangle test in `stats`; tests use the counts to
 //! check the traversal prunes. Use [`crate::geometry::intersect_triangle`] and
-//! [`crate::geometry::Aabb::intersect`] from checkpoints 2 and 3.
+//! [`crate::geometry::Aabb::intersect`] from checkpoints 2 and 3. The tree stores its triangles
+//! reordered (`self.triangles[i]`); a hit's `prim` is the triangle's index in the array given to
+//! [`Bvh::build`], `self.prim_ids[i]`, not `i`.
 //!
 //! **Pitfalls.**
 //! - Returning the first hit found as the closest: leaves are not visited in order of distance.
