@@ -17,10 +17,10 @@ use serde::{Deserialize, Serialize};
 
 /// A `z²` larger than this counts as this (a tile without noise on both sides, but different):
 /// one such tile then weighs as much as a million agreeing ones, not infinitely.
-const MAX_Z2: f64 = 1e6;
+pub const MAX_Z2: f64 = 1e6;
 
 /// Distances are floored here (renders identical to a mistake's, same seeds): `−ln` stays finite.
-const MIN_DISTANCE: f64 = 1e-3;
+pub const MIN_DISTANCE: f64 = 1e-3;
 
 /// Tile means with their standard errors, row-major, and the tiles across, to draw them.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]

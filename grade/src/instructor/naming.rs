@@ -1,0 +1,205 @@
+//! How well the fingerprints name mistakes, measured on renders they were not made from
+//! ([`super::fingerprint_make`] renders them).
+//!
+//! **Thresholds on one half, reported on the other.** The mistakes of each checkpoint are dealt
+//! alternately into two halves, each with its held-out renders, and the correct renders alike.
+//! On one half each kind's margin is set to the lowest that names no correct render and no
+//! mistake wrongly there, plus its gap ([`GAP`], [`TILE_GAP`]); the other half is reported with
+//! it; then the halves swap, so every mistake is reported once, by a margin its own renders did
+//! not set. The margin shipped is the larger of the two: it names a subset of what either names,
+//! so it names wrongly no more.
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+use image::RgbImage;
+
+use crate::fingerprint::{Entry, Evidence, Fingerprints, Kind, Likeness, Rule, Signature, TileSignature};
+use crate::instructor::variants::Variant;
+
+/// What the margin adds to the largest it must exceed on the tuning half (SSIM).
+pub const GAP: f64 = 0.02;
+
+/// The same for tile signatures, whose likeness is `−ln` of a root-mean-square `z` over the
+/// scene's 300 tile means: for renders of the same code, the mean of 300 `z²` has a standard
+/// deviation of about `sqrt(2 / 300) = 0.08`, so its log about 0.04; the gap is 2.5 of those.
+pub const TILE_GAP: f64 = 0.1;
+
+/// One render of one scene by one variant.
+pub(super) struct Shot {
+    /// The variant.
+    pub(super) variant: String,
+    /// The mistake it shows (`None`: a correct render).
+    pub(super) truth: Option<String>,
+    /// The scene.
+    pub(super) scene: String,
+    /// Its seed (`None`: the rubric's).
+    pub(super) seed: Option<u64>,
+    /// The render (a tile-tested scene's: the mean of its renders).
+    pub(super) render: RgbImage,
+    /// The reference image.
+    pub(super) reference: RgbImage,
+    /// On a tile-tested scene, its tile means and the reference's expected ones.
+    pub(super) tiles: Option<(TileSignature, TileSignature)>,
+    /// The checkpoints the scene runs.
+    pub(super) depends_on: Vec<u32>,
+}
+
+impl Shot {
+    /// What naming compares it by.
+    pub(super) fn evidence(&self) -> Evidence<'_> {
+        match &self.tiles {
+            Some((mine, expected)) => Evidence::Tiles { mine, expected },
+            None => Evidence::Picture { render: &self.render, reference: &self.reference },
+        }
+    }
+
+    /// The kind of fingerprint its scene has.
+    pub(super) fn kind(&self) -> Kind {
+        if self.tiles.is_some() {
+            Kind::Tiles
+        } else {
+            Kind::Thumbnail
+        }
+    }
+}
+
+/// A held-out render with its half and its likeness to the reference and the fingerprints.
+pub(super) struct Judged<'a> {
+    shot: &'a Shot,
+    half: usize,
+    likeness: Likeness,
+    /// The mistake of each fingerprint index.
+    names: Vec<String>,
+}
+
+impl Judged<'_> {
+    /// The mistake named under `rule`, if any.
+    fn named(&self, rule: Rule) -> Option<&str> {
+        self.likeness.named(rule).map(|i| self.names[i].as_str())
+    }
+
+    /// Whether naming it at all would be wrong: a correct render, or a mistake taken for another.
+    fn must_not_be_named(&self) -> bool {
+        let best = self.likeness.to_mistakes.first().map(|(i, _)| self.names[*i].as_str());
+        self.shot.truth.is_none() || best != self.shot.truth.as_deref()
+    }
+}
+
+/// Each held-out render's likeness, dealt into halves: the mistakes of each checkpoint
+/// alternately (a second variant and the seeds of a mistake go with it), correct renders alike.
+pub(super) fn judge<'a>(held_out: &[&'a Shot], prints: &[(Entry, Signature)]) -> Vec<Judged<'a>> {
+    let fingerprints = Fingerprints { rule: Rule::default(), prints: prints.to_vec() };
+    let names: Vec<String> = prints.iter().map(|(e, _)| e.mistake.clone()).collect();
+    let mut mistakes: Vec<(u32, &str)> =
+        prints.iter().map(|(e, _)| (e.checkpoint, e.mistake.as_str())).collect();
+    mistakes.dedup();
+    let mut turn: BTreeMap<u32, usize> = BTreeMap::new();
+    let half_of: BTreeMap<&str, usize> = mistakes
+        .iter()
+        .map(|(c, m)| {
+            let k = turn.entry(*c).or_default();
+            *k += 1;
+            (*m, *k % 2)
+        })
+        .collect();
+    let mut correct = 0usize;
+    held_out
+        .iter()
+        .filter_map(|shot| {
+            let half = match &shot.truth {
+                Some(m) => *half_of.get(m.as_str())?,
+                None => {
+                    correct += 1;
+                    correct % 2
+                }
+            };
+            let likeness = fingerprints.likeness(&shot.scene, shot.evidence(), &shot.depends_on)?;
+            Some(Judged { shot, half, likeness, names: names.clone() })
+        })
+        .collect()
+}
+
+/// The rule each half sets (module docs): per kind of signature, the largest margin a render that
+/// must not be named reaches there, plus the kind's gap.
+fn rules(judged: &[Judged]) -> [Rule; 2] {
+    [0, 1].map(|half| {
+        let set = |kind: Kind, gap: f64| {
+            let bad =
+                judged.iter().filter(|j| j.half == half && j.shot.kind() == kind && j.must_not_be_named());
+            bad.filter_map(|j| j.likeness.margin()).fold(0.0f64, f64::max) + gap
+        };
+        Rule { margin: set(Kind::Thumbnail, GAP), tile_margin: Some(set(Kind::Tiles, TILE_GAP)) }
+    })
+}
+
+/// The rule shipped (each margin the larger of the halves'), and the table of each half judged by
+/// the other's rule.
+pub(super) fn table(judged: &[Judged], named_by: &BTreeMap<&str, &Variant>) -> (Rule, String) {
+    let rules = rules(judged);
+    let tile = |r: Rule| r.tile_margin.unwrap_or(f64::INFINITY);
+    let shipped = Rule {
+        margin: rules[0].margin.max(rules[1].margin),
+        tile_margin: Some(tile(rules[0]).max(tile(rules[1]))),
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Margins set on each half: thumbnails {:.4} and {:.4}, tile means {:.4} and {:.4}; shipped: {:.4} and {:.4}.\n",
+        rules[0].margin,
+        rules[1].margin,
+        tile(rules[0]),
+        tile(rules[1]),
+        shipped.margin,
+        tile(shipped)
+    );
+    let _ = writeln!(out, "| mistake | checkpoint | held-out renders | named | not named | named wrongly | named at the shipped margin |");
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|");
+    let mut rows: Vec<(&str, &Variant)> = named_by.iter().map(|(n, v)| (*n, *v)).collect();
+    rows.sort_by_key(|(n, v)| (v.checkpoint, *n));
+    for (name, v) in rows {
+        let mine: Vec<&Judged> = judged.iter().filter(|j| j.shot.truth.as_deref() == Some(name)).collect();
+        // Judged with the rule the other half set.
+        let margin = |j: &Judged| rules[1 - j.half];
+        let right = mine.iter().filter(|j| j.named(margin(j)) == Some(name)).count();
+        let wrong: Vec<String> = mine
+            .iter()
+            .filter_map(|j| {
+                j.named(margin(j)).filter(|n| *n != name).map(|n| format!("{n} ({})", shot_label(j.shot)))
+            })
+            .collect();
+        let shipped_right = mine.iter().filter(|j| j.named(shipped) == Some(name)).count();
+        let _ = writeln!(
+            out,
+            "| {name} | {} | {} | {right} | {} | {} | {shipped_right} |",
+            v.checkpoint,
+            mine.len(),
+            mine.len() - right - wrong.len(),
+            if wrong.is_empty() { "0".to_string() } else { format!("{}: {}", wrong.len(), wrong.join(", ")) }
+        );
+    }
+    let correct: Vec<&Judged> = judged.iter().filter(|j| j.shot.truth.is_none()).collect();
+    let named: Vec<String> = correct
+        .iter()
+        .filter_map(|j| j.named(rules[1 - j.half]).map(|n| format!("{} as {n}", shot_label(j.shot))))
+        .collect();
+    let _ = writeln!(
+        out,
+        "| **correct renders** | all | {} | {} | {} | | {} |",
+        correct.len(),
+        named.len(),
+        correct.len() - named.len(),
+        correct.iter().filter(|j| j.named(shipped).is_some()).count()
+    );
+    if !named.is_empty() {
+        let _ = writeln!(out, "\nCorrect renders named: {}.", named.join("; "));
+    }
+    (shipped, out)
+}
+
+fn shot_label(shot: &Shot) -> String {
+    match shot.seed {
+        Some(seed) => format!("{} on {}, seed {seed}", shot.variant, shot.scene),
+        None => format!("{} on {}", shot.variant, shot.scene),
+    }
+}
