@@ -1,7 +1,7 @@
 //! The words of a verdict ([`crate::verdict`]): why a checkpoint lost points, why a failed scene
 //! costs one nothing, what to read. Text, HTML and Gradescope's JSON all say it in these words.
 
-use crate::fingerprint::{Closeness, Naming};
+use crate::fingerprint::{tiles, Closeness, Naming};
 use crate::noisy::{Channel, TileFailure, TileProblem};
 use crate::outcome::CheckpointResult;
 use crate::rubric::Checkpoint;
@@ -158,6 +158,11 @@ pub fn named_text(scene: &str, named: &Naming) -> String {
         Closeness::Ssim { to_mistake, to_reference } => {
             format!("{to_mistake:.4} to that mistake's render, {to_reference:.4} to the reference")
         }
+        // At the floor (up to the rounding of exp(ln)), the renders are that mistake's own: the
+        // same code and seeds.
+        Closeness::Tiles { to_mistake, to_reference } if to_mistake <= tiles::MIN_DISTANCE * (1.0 + 1e-9) => format!(
+            "the same tile means as that mistake's renders, {to_reference:.2} standard errors from the reference, root mean square"
+        ),
         Closeness::Tiles { to_mistake, to_reference } => format!(
             "tile means {to_mistake:.2} standard errors from that mistake's renders, {to_reference:.2} from the reference, root mean square"
         ),
@@ -181,6 +186,32 @@ pub fn checkpoints_text(ids: &[u32]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A name by tile means gives both distances, or says the renders are the mistake's own.
+    #[test]
+    fn a_mistake_named_by_tile_means_says_how_far_in_standard_errors() {
+        let entry = crate::fingerprint::Entry {
+            scene: "cornell_path".into(),
+            mistake: "roulette".into(),
+            checkpoint: 9,
+            description: "survivors not divided by q".into(),
+            handout: "checkpoints/09-path-tracing.md".into(),
+            inputs_hash: String::new(),
+            kind: crate::fingerprint::Kind::Tiles,
+        };
+        let named = |to_mistake| Naming {
+            entry: entry.clone(),
+            closeness: Closeness::Tiles { to_mistake, to_reference: 29.137 },
+            picture: image::RgbImage::new(1, 1),
+        };
+        let near = named_text("cornell_path", &named(1.04));
+        assert!(near.contains("(tile means 1.04 standard errors from that mistake's renders, 29.14 from the reference, root mean square)"), "{near}");
+        let same = named_text("cornell_path", &named((-(-tiles::MIN_DISTANCE.ln())).exp()));
+        assert!(
+            same.contains("(the same tile means as that mistake's renders, 29.14 standard errors"),
+            "{same}"
+        );
+    }
 
     /// Each test a tile fails is worded with its channel and its own values.
     #[test]
