@@ -14,10 +14,14 @@
 //! draw the same picture, or a render as close to the reference as to the mistake, name nothing.
 //! When unsure, say nothing. A name never changes a point: it is a pointer to the handout.
 //!
+//! It must also *fit*: be as alike to the mistake's fingerprint as renders of that mistake are
+//! (the rule's `fit`), since a render wrong in some other way can be less unlike one mistake than
+//! the reference without being it.
+//!
 //! **Tile-tested scenes** are fingerprinted by their tile means instead ([`tiles`]): a failed
 //! noisy scene's renders are compared, tile by tile in standard errors, with each mistake's
 //! renders and with the reference's expected means, and the same rule applies to `−ln` of those
-//! distances with its own margin (`tile_margin`; none: tiles name nothing).
+//! distances with its own margin and fit (`tile_margin`, `tile_fit`; none: tiles name nothing).
 //!
 //! A fingerprint records the reference's `inputs_hash` when it was made; once the scene changes,
 //! it is stale and left out (and the test `every_fingerprint_is_fresh_and_small` fails).
@@ -59,10 +63,19 @@ pub struct Rule {
     /// How much more similar (SSIM of thumbnails) the render must be to the mistake's than to
     /// the reference and to any other mistake's.
     pub margin: f64,
-    /// The same for tile signatures: by how much `−ln` of the distance must beat the others'
-    /// (`None`: tile signatures name nothing).
+    /// How alike (SSIM of thumbnails) the render must be to the mistake's at least, as renders of
+    /// that mistake are: a render wrong in some other way may be less unlike one mistake than the
+    /// reference without being that mistake (`None`: no such bound).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<f64>,
+    /// The same as `margin` for tile signatures: by how much `−ln` of the distance must beat the
+    /// others' (`None`: tile signatures name nothing).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tile_margin: Option<f64>,
+    /// The same as `fit` for tile signatures, as `−ln` of the largest distance (`None`: tile
+    /// signatures name nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tile_fit: Option<f64>,
 }
 
 /// What a fingerprint keeps of a mistake's renders.
@@ -214,13 +227,15 @@ impl Likeness {
         Some(best - self.to_reference.max(runner_up))
     }
 
-    /// The fingerprint the rule names, by index, if any.
+    /// The fingerprint the rule names, by index, if any: the best candidate, if it beats the
+    /// others by the margin and is as alike as renders of that mistake are (the fit).
     pub fn named(&self, rule: Rule) -> Option<usize> {
-        let margin = match self.kind {
-            Kind::Thumbnail => rule.margin,
-            Kind::Tiles => rule.tile_margin?,
+        let (margin, fit) = match self.kind {
+            Kind::Thumbnail => (rule.margin, rule.fit.unwrap_or(f64::NEG_INFINITY)),
+            Kind::Tiles => (rule.tile_margin?, rule.tile_fit?),
         };
-        (self.margin()? >= margin).then(|| self.to_mistakes[0].0)
+        let (index, best) = *self.to_mistakes.first()?;
+        (self.margin()? >= margin && best >= fit).then_some(index)
     }
 
     /// The closeness of the best candidate, in the signature's own terms.

@@ -47,7 +47,7 @@ fn the_closest_mistake_is_named_and_only_when_clearly_closer() {
     let small = picture([255, 255, 255], 10.0);
     let print = |image: &RgbImage| Signature::Thumbnail(thumbnail(image));
     let prints = Fingerprints {
-        rule: Rule { margin: 0.05, tile_margin: None },
+        rule: Rule { margin: 0.05, fit: None, tile_margin: None, tile_fit: None },
         prints: vec![
             (entry("room", "black_disc", 2), print(&black)),
             (entry("room", "small_disc", 2), print(&small)),
@@ -82,14 +82,15 @@ fn tiles(off: f64) -> TileSignature {
     TileSignature::of(&summaries, 4)
 }
 
-/// On a tile-tested scene the tile signatures decide, by their own margin: renders like a
-/// mistake's tile means are named, a correct one is not, and no margin names nothing.
+/// On a tile-tested scene the tile signatures decide, by their own margin and fit: renders like
+/// a mistake's tile means are named, a correct one is not, nor one wrong some other way, and no
+/// margin names nothing.
 #[test]
 fn tile_means_name_a_mistake_by_the_tile_margin() {
     let mut tiled = entry("cornell_path", "bright_tile", 9);
     tiled.kind = Kind::Tiles;
     let mut prints = Fingerprints {
-        rule: Rule { margin: 0.05, tile_margin: Some(0.5) },
+        rule: Rule { margin: 0.05, fit: None, tile_margin: Some(0.3), tile_fit: Some(-(2f64.ln())) },
         prints: vec![
             (tiled, Signature::Tiles(tiles(0.8))),
             (entry("cornell_path", "a_thumbnail", 9), Signature::Thumbnail(RgbImage::new(16, 16))),
@@ -107,6 +108,12 @@ fn tile_means_name_a_mistake_by_the_tile_margin() {
     assert_eq!(named.picture.dimensions(), (4, 4), "the mistake's tile means, a pixel each");
     assert_eq!(name(&prints, &tiles(0.5)), None, "a correct render");
     assert_eq!(name(&prints, &tiles(0.65)), None, "halfway: unsure");
+    // Wrong some other way: less unlike the mistake (a distance of 8.8) than the reference
+    // (14.1), by a margin of 0.47, but nothing like the mistake's own renders (up to 2 here).
+    let other = Evidence::Tiles { mine: &tiles(1.3), expected: &expected };
+    let likeness = prints.likeness("cornell_path", other, &[9]).unwrap();
+    assert!(likeness.margin().unwrap() > 0.3, "the margin alone would name it: {likeness:?}");
+    assert_eq!(name(&prints, &tiles(1.3)), None, "it does not fit the mistake");
     prints.rule.tile_margin = None;
     assert_eq!(name(&prints, &tiles(0.807)), None, "no tile margin: tiles name nothing");
 }

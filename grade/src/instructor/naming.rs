@@ -4,10 +4,11 @@
 //! **Thresholds on one half, reported on the other.** The mistakes of each checkpoint are dealt
 //! alternately into two halves, each with its held-out renders, and the correct renders alike.
 //! On one half each kind's margin is set to the lowest that names no correct render and no
-//! mistake wrongly there, plus its gap ([`GAP`], [`TILE_GAP`]); the other half is reported with
-//! it; then the halves swap, so every mistake is reported once, by a margin its own renders did
-//! not set. The margin shipped is the larger of the two: it names a subset of what either names,
-//! so it names wrongly no more.
+//! mistake wrongly there, plus its gap ([`GAP`], [`TILE_GAP`]), and its fit to the least alike a
+//! mistake's own render is to its fingerprint there, less the gap; the other half is reported
+//! with them; then the halves swap, so every mistake is reported once, by a rule its own renders
+//! did not set. Each bound shipped is the stricter of the two: it names a subset of what either
+//! names, so it names wrongly no more.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -120,38 +121,59 @@ pub(super) fn judge<'a>(held_out: &[&'a Shot], prints: &[(Entry, Signature)]) ->
         .collect()
 }
 
-/// The rule each half sets (module docs): per kind of signature, the largest margin a render that
-/// must not be named reaches there, plus the kind's gap.
+/// The rule each half sets (module docs), per kind of signature: the margin is the largest a
+/// render that must not be named reaches there, plus the kind's gap; the fit is the least alike a
+/// mistake's own render is to its fingerprint there, less the gap.
 fn rules(judged: &[Judged]) -> [Rule; 2] {
     [0, 1].map(|half| {
-        let set = |kind: Kind, gap: f64| {
-            let bad =
-                judged.iter().filter(|j| j.half == half && j.shot.kind() == kind && j.must_not_be_named());
+        let of = |kind: Kind| judged.iter().filter(move |j| j.half == half && j.shot.kind() == kind);
+        let margin = |kind: Kind, gap: f64| {
+            let bad = of(kind).filter(|j| j.must_not_be_named());
             bad.filter_map(|j| j.likeness.margin()).fold(0.0f64, f64::max) + gap
         };
-        Rule { margin: set(Kind::Thumbnail, GAP), tile_margin: Some(set(Kind::Tiles, TILE_GAP)) }
+        let fit = |kind: Kind, gap: f64| {
+            let own = of(kind).filter(|j| !j.must_not_be_named());
+            own.filter_map(|j| j.likeness.to_mistakes.first().map(|m| m.1)).fold(f64::INFINITY, f64::min)
+                - gap
+        };
+        Rule {
+            margin: margin(Kind::Thumbnail, GAP),
+            fit: Some(fit(Kind::Thumbnail, GAP)),
+            tile_margin: Some(margin(Kind::Tiles, TILE_GAP)),
+            tile_fit: Some(fit(Kind::Tiles, TILE_GAP)),
+        }
     })
 }
 
-/// The rule shipped (each margin the larger of the halves'), and the table of each half judged by
-/// the other's rule.
+/// The rule shipped (each bound the stricter of the halves', so it names a subset of what either
+/// names), and the table of each half judged by the other's rule.
 pub(super) fn table(judged: &[Judged], named_by: &BTreeMap<&str, &Variant>) -> (Rule, String) {
     let rules = rules(judged);
-    let tile = |r: Rule| r.tile_margin.unwrap_or(f64::INFINITY);
+    let both = |f: fn(&Rule) -> Option<f64>| rules.iter().filter_map(f).reduce(f64::max);
     let shipped = Rule {
         margin: rules[0].margin.max(rules[1].margin),
-        tile_margin: Some(tile(rules[0]).max(tile(rules[1]))),
+        fit: both(|r| r.fit),
+        tile_margin: both(|r| r.tile_margin),
+        tile_fit: both(|r| r.tile_fit),
     };
     let mut out = String::new();
+    let show = |r: &Rule| {
+        let value = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4}"));
+        format!(
+            "thumbnails margin {:.4}, fit {}; tile means margin {}, fit {} (a distance of at most {})",
+            r.margin,
+            value(r.fit),
+            value(r.tile_margin),
+            value(r.tile_fit),
+            r.tile_fit.map_or("-".to_string(), |f| format!("{:.2}", (-f).exp()))
+        )
+    };
     let _ = writeln!(
         out,
-        "Margins set on each half: thumbnails {:.4} and {:.4}, tile means {:.4} and {:.4}; shipped: {:.4} and {:.4}.\n",
-        rules[0].margin,
-        rules[1].margin,
-        tile(rules[0]),
-        tile(rules[1]),
-        shipped.margin,
-        tile(shipped)
+        "Set on each half: {}; and {}. Shipped: {}.\n",
+        show(&rules[0]),
+        show(&rules[1]),
+        show(&shipped)
     );
     let _ = writeln!(out, "| mistake | checkpoint | held-out renders | named | not named | named wrongly | named at the shipped margin |");
     let _ = writeln!(out, "|---|---|---|---|---|---|---|");
