@@ -74,9 +74,8 @@ fn scene_section(h: &mut String, s: &SceneResult, report: &GradeReport) {
         SceneStatus::Failed => ("fail", "FAIL"),
         SceneStatus::NotCounted(_) => ("wait", "not counted"),
     };
-    let grades: Vec<String> = s.scene.grades.iter().map(u32::to_string).collect();
-    let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades checkpoints {1}{2}</p>",
-        escape(&s.scene.name), grades.join(", "), how_rendered(s));
+    let _ = writeln!(h, "<section class=\"scene\" id=\"scene-{0}\"><h2>{0} <span class=\"{class}\">{word}</span></h2><p>grades {1}{2}</p>",
+        escape(&s.scene.name), checkpoints_text(&s.scene.grades), how_rendered(s));
     if s.scene.hidden {
         h.push_str("<p>A hidden scene: its checks are shown, never its images.</p>\n");
     } else {
