@@ -73,6 +73,11 @@ fn the_closest_mistake_is_named_and_only_when_clearly_closer() {
     let likeness = prints.likeness("room", seen(&light, &reference), &[2]).unwrap();
     assert!(likeness.to_reference > likeness.to_mistakes[0].1, "{likeness:?}");
     assert_eq!(likeness.named(prints.rule), None);
+    // A fit above what the render reaches names nothing, however clear the margin.
+    let strict = Rule { fit: Some(1.01), ..prints.rule };
+    let black_likeness = prints.likeness("room", seen(&black, &reference), &[2]).unwrap();
+    assert_eq!(black_likeness.named(strict), None, "{black_likeness:?}");
+    assert!(black_likeness.named(prints.rule).is_some());
 }
 
 /// Tile means (`tiles` of 0.5 with standard error 0.01, one tile at `off`).
@@ -114,6 +119,9 @@ fn tile_means_name_a_mistake_by_the_tile_margin() {
     let likeness = prints.likeness("cornell_path", other, &[9]).unwrap();
     assert!(likeness.margin().unwrap() > 0.3, "the margin alone would name it: {likeness:?}");
     assert_eq!(name(&prints, &tiles(1.3)), None, "it does not fit the mistake");
+    prints.rule.tile_fit = None;
+    assert_eq!(name(&prints, &tiles(0.807)), None, "no tile fit: tiles name nothing");
+    prints.rule.tile_fit = Some(-(2f64.ln()));
     prints.rule.tile_margin = None;
     assert_eq!(name(&prints, &tiles(0.807)), None, "no tile margin: tiles name nothing");
 }

@@ -53,27 +53,34 @@ impl TileSignature {
         }
     }
 
-    /// The root mean square of Welch's `z` over every tile and channel (module docs), floored at
-    /// [`MIN_DISTANCE`]; `None` if the tiles do not match or a mean is not finite.
+    /// The root mean square of Welch's `z` over the tiles and channels that tell something (a
+    /// value without noise on both sides that agrees is left out: black tiles say nothing),
+    /// floored at [`MIN_DISTANCE`]; `None` if the signatures do not match, a value is not finite
+    /// or an error is negative, or no value tells anything.
     pub fn distance(&self, other: &TileSignature) -> Option<f64> {
-        if self.means.len() != other.means.len() || self.means.is_empty() {
+        let n = self.means.len();
+        let matching = [self.squared_errors.len(), other.means.len(), other.squared_errors.len()];
+        if n == 0 || matching.iter().any(|&m| m != n) {
             return None;
         }
-        let mut sum = 0.0;
-        for k in 0..self.means.len() {
+        let (mut sum, mut count) = (0.0, 0usize);
+        for k in 0..n {
             for c in 0..3 {
                 let (a, b) = (self.means[k][c] as f64, other.means[k][c] as f64);
-                let se2 = self.squared_errors[k][c] as f64 + other.squared_errors[k][c] as f64;
-                let z2 = match (a - b).powi(2) {
-                    d2 if !d2.is_finite() || !se2.is_finite() => return None,
-                    0.0 => 0.0,
-                    _ if se2 == 0.0 => MAX_Z2,
-                    d2 => (d2 / se2).min(MAX_Z2),
-                };
-                sum += z2;
+                let (sa, sb) = (self.squared_errors[k][c] as f64, other.squared_errors[k][c] as f64);
+                let (d2, se2) = ((a - b).powi(2), sa + sb);
+                if !d2.is_finite() || !se2.is_finite() || sa < 0.0 || sb < 0.0 {
+                    return None;
+                }
+                match (d2 == 0.0, se2 == 0.0) {
+                    (true, true) => continue,
+                    (false, true) => sum += MAX_Z2,
+                    _ => sum += (d2 / se2).min(MAX_Z2),
+                }
+                count += 1;
             }
         }
-        Some((sum / (3 * self.means.len()) as f64).sqrt().max(MIN_DISTANCE))
+        (count > 0).then(|| (sum / count as f64).sqrt().max(MIN_DISTANCE))
     }
 
     /// The tile means as a picture, one pixel per tile (sRGB), to show beside a render.
@@ -115,8 +122,31 @@ mod tests {
     #[test]
     fn tiles_without_noise_count_as_very_far_only_when_they_differ() {
         let still = |m: f64| TileSignature::of(&[[summary(m, 0.0); 3]], 1);
-        assert_eq!(still(0.0).distance(&still(0.0)), Some(MIN_DISTANCE), "two black tiles agree");
+        assert_eq!(still(0.0).distance(&still(0.0)), None, "two black tiles say nothing");
         assert_eq!(still(0.0).distance(&still(0.2)), Some(MAX_Z2.sqrt()));
+        // A black tile beside a noisy one: only the noisy one counts (z = 0.1 / sqrt(2e-4)).
+        let pair = |m: f64| TileSignature::of(&[[summary(0.0, 0.0); 3], [summary(m, 16.0 * 1e-4); 3]], 2);
+        let want = 0.1 / (2e-4f64).sqrt();
+        assert!((pair(0.5).distance(&pair(0.6)).unwrap() - want).abs() < 1e-3);
+    }
+
+    /// Each side's own error counts (a sum, not twice one side), large `z²` are capped, and
+    /// malformed signatures are no match.
+    #[test]
+    fn errors_add_large_values_are_capped_and_malformed_signatures_do_not_compare() {
+        let one = |m: f64, se2: f64| {
+            TileSignature::of(&[[Summary { mean: m, variance: se2 * 16.0, n: 16.0 }; 3]], 1)
+        };
+        // z² = 0.01 / (1e-4 + 3e-4) = 25.
+        assert!((one(0.5, 1e-4).distance(&one(0.6, 3e-4)).unwrap() - 5.0).abs() < 1e-3);
+        // z² = 1 / 1e-12 = 1e12, capped.
+        assert_eq!(one(0.0, 1e-13).distance(&one(1.0, 1e-13)), Some(MAX_Z2.sqrt()));
+        let mut negative = one(0.5, 1e-4);
+        negative.squared_errors[0][0] = -1.0;
+        assert_eq!(negative.distance(&one(0.5, 1e-4)), None, "a negative error");
+        let mut short = one(0.5, 1e-4);
+        short.squared_errors.clear();
+        assert_eq!(short.distance(&one(0.5, 1e-4)), None, "errors missing");
     }
 
     #[test]

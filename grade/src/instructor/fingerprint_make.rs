@@ -2,17 +2,16 @@
 //! (`grader fingerprints`, instructor-only; [`crate::fingerprint`] uses them).
 //!
 //! **Made from.** Every catalogue mistake that must fail a public scene (`fails`), rendered on
-//! those scenes with the rubric's seed: one thumbnail each.
+//! those scenes with the rubric's seed: one thumbnail each; on a tile-tested scene, its tile
+//! means instead ([`crate::fingerprint::tiles`]), from renders at [`FINGERPRINT_SEED`], a seed
+//! no grade uses.
 //!
 //! **Measured on renders they were not made from** (*held out*): each mistake written a second
 //! way (`second_of` in `checkpoints/variants.toml`) on the same scenes; on the tile-tested scenes,
-//! the mistakes at seeds 1 to [`OTHER_SEEDS`]; and correct renders, which must never be named:
-//! every correct alternative on every public scene, and the solution on each tile-tested scene
-//! at seeds 1 to [`CORRECT_SEEDS`].
-//!
-//! On a tile-tested scene the fingerprint is the mistake's tile means instead of a thumbnail
-//! ([`crate::fingerprint::tiles`]), and its margin is set apart from the thumbnails' by the same
-//! rule, with its own gap.
+//! the mistakes at the rubric's seed (what a student with that mistake is graded with) and at
+//! seeds 1 to [`OTHER_SEEDS`]; and correct renders, which must never be named: every correct
+//! alternative on every public scene, and the solution on each tile-tested scene at the rubric's
+//! seed and at seeds 1 to [`CORRECT_SEEDS`].
 //!
 //! **Measured** by [`super::naming`], thresholds set on one half and reported on the other.
 
@@ -38,6 +37,11 @@ pub const OTHER_SEEDS: u64 = 4;
 
 /// Seeds of the solution on each tile-tested scene: correct renders that must not be named.
 pub const CORRECT_SEEDS: u64 = 20;
+
+/// The seed a mistake's fingerprint is rendered with on a tile-tested scene: one no grade uses,
+/// so that its renders are independent of a graded student's (who renders with the rubric's
+/// seed, as the held-out renders at that seed do).
+pub const FINGERPRINT_SEED: u64 = 1000;
 
 /// What `grader fingerprints` made: the fingerprints (written) and the naming table.
 pub struct Made {
@@ -66,10 +70,7 @@ pub fn make(root: &Path, progress: &ProgressBar) -> Result<Made, InstructorError
     let root = std::path::absolute(root).map_err(|e| FileError::unreadable(root, &e))?;
     let (shots, unrendered) = render(&root, plan(&catalogue, &rubric, &named_by), progress)?;
     let prints = fingerprints(&shots, &named_by, &rubric, &Manifest::load(&root, &rubric)?)?;
-    let held_out: Vec<&Shot> = shots
-        .iter()
-        .filter(|s| s.truth.is_none() || s.seed.is_some() || !named_by.contains_key(s.variant.as_str()))
-        .collect();
+    let held_out: Vec<&Shot> = shots.iter().filter(|s| !is_print(s, &named_by)).collect();
     let (rule, mut table) = table(&judge(&held_out, &prints), &named_by);
     if !unrendered.is_empty() {
         let _ = writeln!(table, "\nNot rendered (left out): {}.", unrendered.join("; "));
@@ -99,10 +100,14 @@ fn plan<'a>(catalogue: &'a [Variant], rubric: &Rubric, named_by: &BTreeMap<&str,
         };
         let mut shots = Vec::new();
         for scene in scenes {
-            let seeds = if noisy(scene) { (1..=more).map(Some).collect() } else { Vec::new() };
-            // The solution's correct renders of a noisy scene: the other seeds only.
-            let own = !(v.correct && v.patches.is_empty() && noisy(scene));
-            shots.extend(own.then_some(None).into_iter().chain(seeds).map(|seed| (scene.clone(), seed)));
+            let mut seeds: Vec<Option<u64>> = vec![None];
+            if noisy(scene) {
+                seeds.extend((1..=more).map(Some));
+                if named_by.contains_key(v.name.as_str()) {
+                    seeds.push(Some(FINGERPRINT_SEED));
+                }
+            }
+            shots.extend(seeds.into_iter().map(|seed| (scene.clone(), seed)));
         }
         plan.push((v, shots));
     }
@@ -152,7 +157,14 @@ fn render(
     Ok((shots, unrendered))
 }
 
-/// The fingerprints: each named mistake's render of each of its scenes at the rubric's seed.
+/// Whether `shot` is a fingerprint: a named mistake's render at the rubric's seed, or on a
+/// tile-tested scene at [`FINGERPRINT_SEED`].
+fn is_print(shot: &Shot, named_by: &BTreeMap<&str, &Variant>) -> bool {
+    let seed = if shot.tiles.is_some() { Some(FINGERPRINT_SEED) } else { None };
+    named_by.contains_key(shot.variant.as_str()) && shot.seed == seed
+}
+
+/// The fingerprints: each named mistake's render of each of its scenes ([`is_print`]).
 fn fingerprints(
     shots: &[Shot],
     named_by: &BTreeMap<&str, &Variant>,
@@ -160,7 +172,7 @@ fn fingerprints(
     manifest: &Manifest,
 ) -> Result<Vec<(Entry, Signature)>, InstructorError> {
     let mut prints = Vec::new();
-    for shot in shots.iter().filter(|s| s.seed.is_none()) {
+    for shot in shots.iter().filter(|s| is_print(s, named_by)) {
         let Some(v) = named_by.get(shot.variant.as_str()) else { continue };
         let handout = rubric.checkpoints.iter().find(|c| c.id == v.checkpoint).map(|c| &c.handout);
         let reference = manifest.references.iter().find(|r| r.name == shot.scene);

@@ -195,7 +195,10 @@ pub struct NoisyVerdict {
     pub calm: f64,
     /// Per tile, the submission's tile means over its renders (what naming a mistake compares).
     pub yours: Vec<[Summary; 3]>,
-    /// Per tile, the expected means, as in the reference.
+    /// Per tile, the expected means, with the spread of the solution's renders at the graded spp
+    /// and the submission's count of renders: the summary a correct submission would have, so
+    /// that its distance to the expected means is measured as the distance between two
+    /// submissions is ([`crate::fingerprint::tiles`]).
     pub expected: Vec<[Summary; 3]>,
 }
 
@@ -223,8 +226,16 @@ pub fn compare(submission: &[Vec<[f64; 3]>], reference: &NoisyReference, alpha: 
         tiles,
         calm,
         yours: summarise(submission),
-        expected: reference.expected.clone(),
+        expected: as_graded(reference, submission.len()),
     }
+}
+
+/// The expected means with the spread a correct set of `renders` graded renders has (the
+/// solution's, at the graded spp): see [`NoisyVerdict::expected`].
+fn as_graded(reference: &NoisyReference, renders: usize) -> Vec<[Summary; 3]> {
+    let spread = summarise(&reference.solution);
+    let graded = |e: &Summary, s: &Summary| Summary { mean: e.mean, variance: s.variance, n: renders as f64 };
+    reference.expected.iter().zip(&spread).map(|(e, s)| [0, 1, 2].map(|c| graded(&e[c], &s[c]))).collect()
 }
 
 /// Two tests per tile and channel.

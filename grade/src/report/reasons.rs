@@ -161,10 +161,10 @@ pub fn named_text(scene: &str, named: &Naming) -> String {
         // At the floor (up to the rounding of exp(ln)), the renders are that mistake's own: the
         // same code and seeds.
         Closeness::Tiles { to_mistake, to_reference } if to_mistake <= tiles::MIN_DISTANCE * (1.0 + 1e-9) => format!(
-            "the same tile means as that mistake's renders, {to_reference:.2} standard errors from the reference, root mean square"
+            "the same tile means as that mistake's renders; RMS z over tiles {to_reference:.2} against the reference"
         ),
         Closeness::Tiles { to_mistake, to_reference } => format!(
-            "tile means {to_mistake:.2} standard errors from that mistake's renders, {to_reference:.2} from the reference, root mean square"
+            "RMS z over tiles: {to_mistake:.2} against that mistake's renders, {to_reference:.2} against the reference; two runs of the same code give about 1"
         ),
     };
     format!(
@@ -189,7 +189,7 @@ mod tests {
 
     /// A name by tile means gives both distances, or says the renders are the mistake's own.
     #[test]
-    fn a_mistake_named_by_tile_means_says_how_far_in_standard_errors() {
+    fn a_mistake_named_by_tile_means_says_how_far_in_rms_z() {
         let entry = crate::fingerprint::Entry {
             scene: "cornell_path".into(),
             mistake: "roulette".into(),
@@ -205,10 +205,10 @@ mod tests {
             picture: image::RgbImage::new(1, 1),
         };
         let near = named_text("cornell_path", &named(1.04));
-        assert!(near.contains("(tile means 1.04 standard errors from that mistake's renders, 29.14 from the reference, root mean square)"), "{near}");
+        assert!(near.contains("(RMS z over tiles: 1.04 against that mistake's renders, 29.14 against the reference; two runs of the same code give about 1)"), "{near}");
         let same = named_text("cornell_path", &named((-(-tiles::MIN_DISTANCE.ln())).exp()));
         assert!(
-            same.contains("(the same tile means as that mistake's renders, 29.14 standard errors"),
+            same.contains("(the same tile means as that mistake's renders; RMS z over tiles 29.14 against the reference)"),
             "{same}"
         );
     }
