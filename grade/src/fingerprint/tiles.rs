@@ -4,9 +4,12 @@
 //!
 //! **Distance.** Between two sets of tile means `a` and `b` (each the mean of several renders),
 //! per tile `k` and channel: `z_k = (a_k − b_k) / sqrt(se_a,k² + se_b,k²)`, Welch's statistic.
-//! The distance is their root mean square, `sqrt(mean z_k²)`: about 1 when both come from the same
-//! code (whatever the seeds), larger the more tiles differ, and by how much. A student's renders
-//! are compared so with each mistake's and with the reference's expected means; the likeness
+//! The distance is their root mean square, `sqrt(mean z_k²)`, over the values that tell something
+//! (a tile without noise on both sides that agrees, a black one, is left out): about 1 when both
+//! come from the same code at independent seeds, larger the more tiles differ, and by how much.
+//! A student's renders are compared so with each mistake's (rendered at a seed no grade uses) and
+//! with the expected means carrying the error a correct set of as many graded renders has
+//! ([`crate::noisy::NoisyVerdict::expected`]), so both distances use one yardstick. The likeness
 //! [`crate::fingerprint`] ranks by is `−ln(distance)`, so a margin between two likenesses is the
 //! log of the ratio of their distances.
 
