@@ -70,8 +70,9 @@ pub(super) struct Judged<'a> {
     shot: &'a Shot,
     half: usize,
     likeness: Likeness,
-    /// For a mistake's render, its likeness with that mistake's own fingerprints left out: a
-    /// stand-in for a bug the catalogue does not know, which must not be named.
+    /// For a mistake's render, its likeness with every fingerprint of its checkpoint left out: a
+    /// stand-in for a bug of that checkpoint the catalogue does not know, which must not be named
+    /// (any name would point at another checkpoint).
     left_out: Option<Likeness>,
     /// The mistake of each fingerprint index.
     names: Vec<String>,
@@ -83,7 +84,8 @@ impl Judged<'_> {
         self.likeness.named(rule).map(|i| self.names[i].as_str())
     }
 
-    /// Whether a mistake is named under `rule` with its own fingerprints left out (always wrong).
+    /// Whether a mistake is named under `rule` with its checkpoint's fingerprints left out
+    /// (always wrong).
     fn named_left_out(&self, rule: Rule) -> bool {
         self.left_out.as_ref().is_some_and(|l| l.named(rule).is_some())
     }
@@ -125,10 +127,13 @@ pub(super) fn judge<'a>(held_out: &[&'a Shot], prints: &[(Entry, Signature)]) ->
             };
             let likeness = fingerprints.likeness(&shot.scene, shot.evidence(), &shot.depends_on)?;
             let left_out = shot.truth.as_ref().and_then(|m| {
-                let others =
-                    prints.iter().map(|(e, s)| (e.clone(), s.clone())).filter(|(e, _)| &e.mistake != m);
+                // Every fingerprint of the mistake's checkpoint is left out: what a bug of that
+                // checkpoint the catalogue does not know would be compared with.
+                let checkpoint = prints.iter().find(|(e, _)| &e.mistake == m)?.0.checkpoint;
+                let other = |i: &usize| prints[*i].0.checkpoint != checkpoint;
                 // Indices into `names` stay those of all the prints: the others keep their order.
-                let kept: Vec<usize> = (0..prints.len()).filter(|&i| &prints[i].0.mistake != m).collect();
+                let kept: Vec<usize> = (0..prints.len()).filter(other).collect();
+                let others = kept.iter().map(|&i| prints[i].clone());
                 let without = Fingerprints { rule: Rule::default(), prints: others.collect() };
                 let mut l = without.likeness(&shot.scene, shot.evidence(), &shot.depends_on)?;
                 l.to_mistakes.iter_mut().for_each(|(i, _)| *i = kept[*i]);
@@ -151,7 +156,7 @@ fn tile_gap(judged: &[Judged], half: usize) -> Option<f64> {
 
 /// The rule each half sets (module docs), per kind of signature: the margin is the largest a
 /// render that must not be named reaches there (a correct render, a mistake taken for another, a
-/// mistake with its own fingerprints left out), plus the kind's gap; the fit is the least alike
+/// mistake with its checkpoint's fingerprints left out), plus the kind's gap; the fit is the least alike
 /// a mistake's own render is to its fingerprint there, less the gap.
 fn rules(judged: &[Judged]) -> [Rule; 2] {
     [0, 1].map(|half| {
@@ -209,7 +214,7 @@ pub(super) fn table(judged: &[Judged], named_by: &BTreeMap<&str, &Variant>) -> (
         gaps[0],
         gaps[1]
     );
-    let _ = writeln!(out, "| mistake | checkpoint | held-out renders | named | not named | named wrongly | named with its own left out | named at the shipped margin |");
+    let _ = writeln!(out, "| mistake | checkpoint | held-out renders | named | not named | named wrongly | named with its checkpoint's left out | named at the shipped margin |");
     let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
     let mut rows: Vec<(&str, &Variant)> = named_by.iter().map(|(n, v)| (*n, *v)).collect();
     rows.sort_by_key(|(n, v)| (v.checkpoint, *n));
