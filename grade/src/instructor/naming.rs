@@ -126,18 +126,13 @@ pub(super) fn judge<'a>(held_out: &[&'a Shot], prints: &[(Entry, Signature)]) ->
                 }
             };
             let likeness = fingerprints.likeness(&shot.scene, shot.evidence(), &shot.depends_on)?;
+            // Every fingerprint of the mistake's checkpoint left out: what a bug of that checkpoint
+            // the catalogue does not know would be compared with (candidates are chosen by the
+            // checkpoints the scene runs, so that checkpoint is dropped from them).
             let left_out = shot.truth.as_ref().and_then(|m| {
-                // Every fingerprint of the mistake's checkpoint is left out: what a bug of that
-                // checkpoint the catalogue does not know would be compared with.
                 let checkpoint = prints.iter().find(|(e, _)| &e.mistake == m)?.0.checkpoint;
-                let other = |i: &usize| prints[*i].0.checkpoint != checkpoint;
-                // Indices into `names` stay those of all the prints: the others keep their order.
-                let kept: Vec<usize> = (0..prints.len()).filter(other).collect();
-                let others = kept.iter().map(|&i| prints[i].clone());
-                let without = Fingerprints { rule: Rule::default(), prints: others.collect() };
-                let mut l = without.likeness(&shot.scene, shot.evidence(), &shot.depends_on)?;
-                l.to_mistakes.iter_mut().for_each(|(i, _)| *i = kept[*i]);
-                Some(l)
+                let others: Vec<u32> = shot.depends_on.iter().copied().filter(|&c| c != checkpoint).collect();
+                fingerprints.likeness(&shot.scene, shot.evidence(), &others)
             });
             Some(Judged { shot, half, likeness, left_out, names: names.clone() })
         })
