@@ -84,9 +84,14 @@ fn fnv1a(bytes: &[u8], mut hash: u64) -> u64 {
     hash
 }
 
-/// `fnv1a` of `bytes` from the standard offset basis, as 16 hex digits.
+/// `fnv1a` of `bytes` from the standard offset basis.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    fnv1a(bytes, FNV_OFFSET)
+}
+
+/// [`fnv1a64`] as 16 hex digits.
 pub fn fnv1a_hex(bytes: &[u8]) -> String {
-    format!("{:016x}", fnv1a(bytes, FNV_OFFSET))
+    format!("{:016x}", fnv1a64(bytes))
 }
 
 /// FNV-1a's offset basis, its starting value.

@@ -4,7 +4,8 @@
 //! ([`calibrate`]), the fingerprints a failed render is named by ([`fingerprint_make`]) and how well they name
 //! ([`naming`]), the
 //! references rendered with the linked renderer ([`render_references`]), the hostile submissions
-//! the grader is tested against ([`fixture`]), and the Gradescope package ([`package`]).
+//! the grader is tested against ([`fixture`]), the Gradescope package ([`package`]), and the
+//! class's copied solutions ([`similarity`]).
 
 pub mod calibrate;
 pub mod error;
@@ -13,4 +14,5 @@ pub mod fixture;
 pub mod naming;
 pub mod package;
 pub mod render_references;
+pub mod similarity;
 pub mod variants;

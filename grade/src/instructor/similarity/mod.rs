@@ -1,0 +1,165 @@
+//! Copied solutions across a class: which pairs of submissions are more alike, region by region,
+//! than independent solutions of the same regions are.
+//!
+//! Only the text of solution regions is compared: everything else is the starter's, the same for
+//! every student. Each region's text is normalised so that disguise changes nothing
+//! ([`normalise`]: names bound in the region, literal spelling, whitespace, comments, layout, the
+//! order of independent `let`s, dead `let`s), fingerprinted by winnowing ([`winnow`], the method
+//! of MOSS and Dolos: chosen over JPlag's greedy string tiling because fingerprints compare a
+//! class of `n` in `n` fingerprintings and cheap set intersections, and their matches point at
+//! lines), and scored against what independent implementations of that region reach ([`score`]).
+//! A pair's score is a standard score: how many standard deviations more alike than independent
+//! students its regions are, combined over the regions both wrote.
+//!
+//! It flags for a person to look at. Code written with the same assistant or tutorial can look
+//! copied; a flag is a reason to talk with a student, never evidence, and it never changes a grade.
+
+pub mod normalise;
+pub mod score;
+pub mod winnow;
+
+use std::collections::{BTreeMap, HashSet};
+
+use normalise::{normalise, Token};
+use score::{stouffer, Null, RegionTexts, Weights};
+use winnow::{winnow, Print};
+
+/// One author's region texts: a student, an independent implementation, the solution.
+#[derive(Clone, Debug, Default)]
+pub struct Author {
+    /// The name shown for it.
+    pub name: String,
+    /// Each region it wrote (`file::function`) and its body.
+    pub regions: BTreeMap<String, String>,
+}
+
+/// One region text, read.
+#[derive(Clone, Debug)]
+pub struct Text {
+    /// The body as written.
+    pub body: String,
+    /// Its normalised tokens.
+    pub tokens: Vec<Token>,
+    /// Its fingerprints.
+    pub prints: Vec<Print>,
+}
+
+impl Text {
+    /// Reads `body`.
+    pub fn of(body: &str) -> Text {
+        let tokens = normalise(body);
+        let prints = winnow(&tokens);
+        Text { body: body.to_string(), tokens, prints }
+    }
+}
+
+/// How alike a pair is in one region.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RegionScore {
+    /// The region (`file::function`).
+    pub region: String,
+    /// Its similarity `S`, in `[0, 1]`.
+    pub similarity: f64,
+    /// Its standard score against independent pairs.
+    pub z: f64,
+}
+
+/// How alike two authors are.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pair {
+    /// The first author (a student).
+    pub a: usize,
+    /// The second: a student, or one of the others (the solution, an earlier class).
+    pub b: usize,
+    /// The regions both wrote, most unusual first.
+    pub regions: Vec<RegionScore>,
+    /// Their combined standard score (Stouffer's).
+    pub z: f64,
+}
+
+/// A class compared.
+pub struct Comparison {
+    /// Every author: the students first, then the others.
+    pub names: Vec<String>,
+    /// Each author's texts.
+    pub texts: Vec<BTreeMap<String, Text>>,
+    /// Every pair of a student with a student or another, highest score first.
+    pub pairs: Vec<Pair>,
+    /// Each region's null, from the independent implementations.
+    pub nulls: BTreeMap<String, Null>,
+}
+
+/// Compares every pair of `students`, and each student with each of `others` (the solution, an
+/// earlier class), against the `independent` implementations of each region; `stubs` are the
+/// starter's region bodies, whose fingerprints never count.
+pub fn compare(
+    students: &[Author],
+    others: &[Author],
+    independent: &[Author],
+    stubs: &BTreeMap<String, String>,
+) -> Comparison {
+    let read = |authors: &[Author]| -> Vec<BTreeMap<String, Text>> {
+        authors
+            .iter()
+            .map(|a| a.regions.iter().map(|(r, body)| (r.clone(), Text::of(body))).collect())
+            .collect()
+    };
+    let mut texts = read(students);
+    texts.extend(read(others));
+    let independent = read(independent);
+    let regions: Vec<&String> = stubs.keys().collect();
+    let mut weights = BTreeMap::new();
+    let mut nulls = BTreeMap::new();
+    for region in regions {
+        let stub: HashSet<u64> = winnow(&normalise(&stubs[region])).into_iter().map(|p| p.hash).collect();
+        let all: Vec<&[Print]> = texts
+            .iter()
+            .chain(&independent)
+            .filter_map(|t| t.get(region))
+            .map(|t| t.prints.as_slice())
+            .collect();
+        let w = Weights::of(&RegionTexts { prints: all, stub });
+        let sample: Vec<&Text> = independent.iter().filter_map(|t| t.get(region)).collect();
+        let s: Vec<f64> =
+            pairs_of(sample.len()).map(|(i, j)| w.similarity(&sample[i].prints, &sample[j].prints)).collect();
+        let mut counts: Vec<f64> = sample.iter().map(|t| t.prints.len() as f64).collect();
+        counts.sort_by(f64::total_cmp);
+        let median = counts.get(counts.len() / 2).copied().unwrap_or(1.0);
+        nulls.insert(region.clone(), Null::of(&s, median));
+        weights.insert(region.clone(), w);
+    }
+    let n = students.len();
+    let mut pairs: Vec<Pair> = (0..n)
+        .flat_map(|a| (a + 1..texts.len()).map(move |b| (a, b)))
+        .map(|(a, b)| pair(a, b, &texts, &weights, &nulls))
+        .collect();
+    pairs.sort_by(|p, q| q.z.total_cmp(&p.z).then((p.a, p.b).cmp(&(q.a, q.b))));
+    let names = students.iter().chain(others).map(|a| a.name.clone()).collect();
+    Comparison { names, texts, pairs, nulls }
+}
+
+/// Every pair `(i, j)`, `i < j < n`.
+fn pairs_of(n: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..n).flat_map(move |i| (i + 1..n).map(move |j| (i, j)))
+}
+
+/// The scores of authors `a` and `b` over the regions both wrote.
+fn pair(
+    a: usize,
+    b: usize,
+    texts: &[BTreeMap<String, Text>],
+    weights: &BTreeMap<String, Weights>,
+    nulls: &BTreeMap<String, Null>,
+) -> Pair {
+    let mut regions: Vec<RegionScore> = texts[a]
+        .iter()
+        .filter_map(|(region, ta)| {
+            let tb = texts[b].get(region)?;
+            let similarity = weights.get(region)?.similarity(&ta.prints, &tb.prints);
+            Some(RegionScore { region: region.clone(), similarity, z: nulls.get(region)?.z(similarity) })
+        })
+        .collect();
+    regions.sort_by(|p, q| q.z.total_cmp(&p.z));
+    let z = stouffer(&regions.iter().map(|r| r.z).collect::<Vec<_>>());
+    Pair { a, b, regions, z }
+}

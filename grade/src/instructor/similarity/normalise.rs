@@ -1,0 +1,242 @@
+//! A region's text as the tokens that disguise does not change.
+//!
+//! Read with `syn` (the parser the allow list uses), a region body becomes a sequence of tokens in
+//! which:
+//! - whitespace, comments and formatting are gone (they are not tokens);
+//! - every name bound inside the region (a `let`, a closure's or a match arm's pattern, a nested
+//!   `fn`) is the one token `$v`, so renaming changes nothing; the names a student cannot rename
+//!   (the function's parameters, fields, methods, types) stay as they are;
+//! - a number is its value (`1.0`, `1.`, `1e0`, `1.0_f32` are all `1`), any string `$s`;
+//! - in every block, a `let` that binds only names nothing after it uses is dropped (dead code),
+//!   and each run of `let` statements is put in one order: the smallest statement (by its
+//!   normalised text) first among those whose names are ready, so independent statements written
+//!   in any order read the same.
+//!
+//! Each token keeps the line of the region it came from, to show the matching spans.
+
+use std::collections::{BTreeSet, HashSet};
+
+use proc_macro2::{Delimiter, TokenStream, TokenTree};
+use quote::ToTokens;
+use syn::visit::Visit;
+use syn::visit_mut::VisitMut;
+
+/// One normalised token and the region line (from 1) it came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Token {
+    /// Its normalised text.
+    pub text: String,
+    /// The line of the region body it came from, from 1.
+    pub line: usize,
+}
+
+/// The normalised tokens of a region `body`. Code that `syn` cannot read as a block is normalised
+/// token by token (names, numbers and strings as above, no dead code or reordering); text that is
+/// not even Rust tokens gives none.
+pub fn normalise(body: &str) -> Vec<Token> {
+    // The body is wrapped in braces on lines of their own: region line = parsed line - 1.
+    let wrapped = format!("{{\n{body}\n}}");
+    match syn::parse_str::<syn::Block>(&wrapped) {
+        Ok(mut block) => {
+            let bound = bound_names(&block);
+            Canonical { bound: &bound }.visit_block_mut(&mut block);
+            let mut out = Vec::new();
+            for stmt in &block.stmts {
+                emit(stmt.to_token_stream(), &bound, &mut out);
+            }
+            out
+        }
+        // Without the braces, on the same lines.
+        Err(_) => match format!("\n{body}\n").parse::<TokenStream>() {
+            Ok(stream) => {
+                let mut out = Vec::new();
+                emit(stream, &HashSet::new(), &mut out);
+                out
+            }
+            Err(_) => Vec::new(),
+        },
+    }
+}
+
+/// Every name a pattern or a nested `fn` binds anywhere in `block`.
+fn bound_names(block: &syn::Block) -> HashSet<String> {
+    struct Binder(HashSet<String>);
+    impl Visit<'_> for Binder {
+        fn visit_pat_ident(&mut self, p: &syn::PatIdent) {
+            self.0.insert(p.ident.to_string());
+            syn::visit::visit_pat_ident(self, p);
+        }
+        fn visit_item_fn(&mut self, f: &syn::ItemFn) {
+            self.0.insert(f.sig.ident.to_string());
+            syn::visit::visit_item_fn(self, f);
+        }
+    }
+    let mut binder = Binder(HashSet::new());
+    binder.visit_block(block);
+    binder.0
+}
+
+/// Drops dead `let`s and orders runs of `let`s in every block, innermost first.
+struct Canonical<'a> {
+    bound: &'a HashSet<String>,
+}
+
+impl VisitMut for Canonical<'_> {
+    fn visit_block_mut(&mut self, block: &mut syn::Block) {
+        syn::visit_mut::visit_block_mut(self, block);
+        drop_dead_lets(&mut block.stmts);
+        order_lets(&mut block.stmts, self.bound);
+    }
+}
+
+/// The names a `let` binds (none for any other statement).
+fn binds(stmt: &syn::Stmt) -> BTreeSet<String> {
+    struct Names(BTreeSet<String>);
+    impl Visit<'_> for Names {
+        fn visit_pat_ident(&mut self, p: &syn::PatIdent) {
+            self.0.insert(p.ident.to_string());
+            syn::visit::visit_pat_ident(self, p);
+        }
+    }
+    let mut names = Names(BTreeSet::new());
+    if let syn::Stmt::Local(local) = stmt {
+        names.visit_pat(&local.pat);
+    }
+    names.0
+}
+
+/// Every identifier written in `stmt` (a superset of the names it uses).
+fn mentions(stmt: &syn::Stmt) -> HashSet<String> {
+    fn walk(stream: TokenStream, out: &mut HashSet<String>) {
+        for tree in stream {
+            match tree {
+                TokenTree::Ident(i) => {
+                    out.insert(i.to_string());
+                }
+                TokenTree::Group(g) => walk(g.stream(), out),
+                _ => {}
+            }
+        }
+    }
+    let mut out = HashSet::new();
+    walk(stmt.to_token_stream(), &mut out);
+    out
+}
+
+/// Removes, until none is left, every `let` none of whose names a later statement mentions.
+fn drop_dead_lets(stmts: &mut Vec<syn::Stmt>) {
+    while let Some(dead) = (0..stmts.len()).find(|&i| {
+        let bound = binds(&stmts[i]);
+        matches!(stmts[i], syn::Stmt::Local(_))
+            && stmts[i + 1..].iter().all(|later| bound.iter().all(|name| !mentions(later).contains(name)))
+    }) {
+        stmts.remove(dead);
+    }
+}
+
+/// Puts each run of consecutive `let`s in one order that keeps every name defined before it is
+/// used (and never moves a `let` past another binding the same name): among the statements ready,
+/// the one whose normalised text is smallest comes first.
+fn order_lets(stmts: &mut [syn::Stmt], bound: &HashSet<String>) {
+    let mut start = 0;
+    while start < stmts.len() {
+        let end =
+            (start..stmts.len()).find(|&i| !matches!(stmts[i], syn::Stmt::Local(_))).unwrap_or(stmts.len());
+        if end - start > 1 {
+            let run: Vec<syn::Stmt> = stmts[start..end].to_vec();
+            let order = canonical_order(&run, bound);
+            for (slot, i) in order.into_iter().enumerate() {
+                stmts[start + slot] = run[i].clone();
+            }
+        }
+        start = end + 1;
+    }
+}
+
+/// The order of `run` (indices): a topological order of "must stay after", smallest text first.
+fn canonical_order(run: &[syn::Stmt], bound: &HashSet<String>) -> Vec<usize> {
+    let names: Vec<BTreeSet<String>> = run.iter().map(binds).collect();
+    let used: Vec<HashSet<String>> = run.iter().map(mentions).collect();
+    // j must stay after i (i < j) when one mentions what the other binds.
+    let after = |i: usize, j: usize| {
+        names[i].iter().any(|n| used[j].contains(n)) || names[j].iter().any(|n| used[i].contains(n))
+    };
+    let key: Vec<String> = run
+        .iter()
+        .map(|s| {
+            let mut tokens = Vec::new();
+            emit(s.to_token_stream(), bound, &mut tokens);
+            tokens.into_iter().map(|t| t.text).collect::<Vec<_>>().join(" ")
+        })
+        .collect();
+    let mut placed = vec![false; run.len()];
+    let mut order = Vec::with_capacity(run.len());
+    while order.len() < run.len() {
+        let ready = (0..run.len())
+            .filter(|&j| !placed[j] && (0..j).all(|i| placed[i] || !after(i, j)))
+            .min_by(|&a, &b| key[a].cmp(&key[b]).then(a.cmp(&b)))
+            .expect("the first unplaced statement is always ready");
+        placed[ready] = true;
+        order.push(ready);
+    }
+    order
+}
+
+/// Appends the normalised tokens of `stream` to `out`.
+fn emit(stream: TokenStream, bound: &HashSet<String>, out: &mut Vec<Token>) {
+    let mut after_dot = false;
+    for tree in stream {
+        let line = tree.span().start().line.saturating_sub(1).max(1);
+        let text = match &tree {
+            TokenTree::Group(g) => {
+                let (open, close) = match g.delimiter() {
+                    Delimiter::Parenthesis => ("(", ")"),
+                    Delimiter::Brace => ("{", "}"),
+                    Delimiter::Bracket => ("[", "]"),
+                    Delimiter::None => ("", ""),
+                };
+                if !open.is_empty() {
+                    out.push(Token { text: open.to_string(), line });
+                }
+                emit(g.stream(), bound, out);
+                if !close.is_empty() {
+                    let line = g.span_close().start().line.saturating_sub(1).max(1);
+                    out.push(Token { text: close.to_string(), line });
+                }
+                after_dot = false;
+                continue;
+            }
+            TokenTree::Ident(i) => {
+                let name = i.to_string();
+                if !after_dot && bound.contains(&name) {
+                    "$v".to_string()
+                } else {
+                    name
+                }
+            }
+            TokenTree::Punct(p) => p.as_char().to_string(),
+            TokenTree::Literal(l) => literal(&l.to_string()),
+        };
+        after_dot = text == ".";
+        out.push(Token { text, line });
+    }
+}
+
+/// A literal as its value: numbers by value whatever their spelling, strings and chars as `$s`.
+fn literal(text: &str) -> String {
+    if !text.starts_with(|c: char| c.is_ascii_digit()) {
+        return "$s".to_string();
+    }
+    let digits: String = text.chars().filter(|&c| c != '_').collect();
+    let number = ["f32", "f64", "u8", "u16", "u32", "u64", "usize", "i8", "i16", "i32", "i64", "isize"]
+        .iter()
+        .find_map(|suffix| digits.strip_suffix(suffix))
+        .unwrap_or(&digits);
+    match number.parse::<f64>() {
+        Ok(value) => format!("{value}"),
+        Err(_) => number.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests;

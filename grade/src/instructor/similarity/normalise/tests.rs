@@ -1,0 +1,78 @@
+use super::*;
+
+/// The normalised text of `body`, tokens joined by spaces.
+fn text(body: &str) -> String {
+    normalise(body).into_iter().map(|t| t.text).collect::<Vec<_>>().join(" ")
+}
+
+const ORIGINAL: &str = "
+    let edge1 = p1 - p0;
+    let edge2 = p2 - p0;
+    let pvec = ray.dir.cross(edge2);
+    let det = edge1.dot(pvec);
+    if det.abs() < 1e-8 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    Some(inv)
+";
+
+#[test]
+fn similarity_normalising_forgets_names_bound_in_the_region_and_keeps_the_others() {
+    let renamed = ORIGINAL.replace("edge1", "first_edge").replace("pvec", "p").replace("inv", "reciprocal");
+    assert_eq!(text(ORIGINAL), text(&renamed));
+    // A parameter, a field and a method are not the region's to rename.
+    assert!(text(ORIGINAL).contains("ray . dir . cross"), "{}", text(ORIGINAL));
+    assert_ne!(text(ORIGINAL), text(&ORIGINAL.replace("cross", "dot")));
+}
+
+#[test]
+fn similarity_normalising_forgets_layout_comments_and_literal_spelling() {
+    let disguised = "let edge1=p1-p0; // the first edge
+        /* the second */ let edge2 = p2
+            - p0;
+        let pvec = ray.dir.cross(edge2); let det = edge1.dot(pvec);
+        if det.abs() < 0.000_000_01_f32 { return None; }
+        let inv = 1.0_f32 / det; Some(inv)";
+    assert_eq!(text(ORIGINAL), text(disguised));
+    // A number's value is kept: another epsilon is another program.
+    assert_ne!(text(ORIGINAL), text(&ORIGINAL.replace("1e-8", "1e-6")));
+}
+
+#[test]
+fn similarity_normalising_puts_independent_statements_in_one_order() {
+    let swapped = ORIGINAL.replace(
+        "let edge1 = p1 - p0;\n    let edge2 = p2 - p0;",
+        "let edge2 = p2 - p0;\n    let edge1 = p1 - p0;",
+    );
+    assert_ne!(swapped, ORIGINAL);
+    assert_eq!(text(ORIGINAL), text(&swapped));
+    // A statement never moves before the one whose name it uses.
+    let t = text(ORIGINAL);
+    assert!(t.find("cross").unwrap() < t.find("dot").unwrap(), "{t}");
+}
+
+#[test]
+fn similarity_normalising_drops_lets_nothing_uses() {
+    let padded = ORIGINAL
+        .replace("let det", "let unused = edge1 * 2.0;\n    let _ = (&ray, &p0);\n    let det")
+        .replace("Some(inv)", "let twice = inv + inv;\n    let _also = twice;\n    Some(inv)");
+    assert_eq!(text(ORIGINAL), text(&padded));
+    // Inner blocks too.
+    let inner = ORIGINAL.replace("return None;", "let waste = det * det;\n        return None;");
+    assert_eq!(text(ORIGINAL), text(&inner));
+}
+
+#[test]
+fn similarity_normalising_keeps_each_token_s_region_line() {
+    let tokens = normalise(ORIGINAL);
+    let det = tokens.iter().find(|t| t.text == "abs").unwrap();
+    assert_eq!(det.line, 6, "`det.abs()` is on the region's sixth line");
+}
+
+#[test]
+fn similarity_normalising_reads_what_does_not_parse_token_by_token() {
+    assert_eq!(text("let x = 1.0 +; foo(x"), "");
+    assert_eq!(text("let x = 1.0 + ; y"), "let x = 1 + ; y");
+    assert!(text("\"unterminated").is_empty());
+}
