@@ -6,7 +6,7 @@
 //! `O_NOFOLLOW | O_NONBLOCK` and checked to be a regular file on the open handle before one byte is
 //! read ([`read_plain`]): a link, a device, a FIFO or a socket is never read, and no read goes past
 //! its limit. What a child, a compiler or a file name says is quoted in a report only through
-//! [`quote`]: one line, bounded.
+//! [`quote()`]: one line, bounded.
 
 use std::io::Read;
 use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};

@@ -227,6 +227,7 @@ mod tests {
                 "grader calibrate",
                 "make-variant",
                 "update-references",
+                "grader similarity",
             ] {
                 if text.contains(command) {
                     problems

@@ -24,7 +24,7 @@ pub struct SourcePlace {
 pub struct CompileError {
     /// rustc's error code (`E0425`), if the error has one.
     pub code: Option<String>,
-    /// What the compiler said, on one line and [`quote`]d.
+    /// What the compiler said, on one line and [`quote()`]d.
     pub message: String,
     /// Where, if the compiler named a place.
     pub place: Option<SourcePlace>,
@@ -90,7 +90,7 @@ pub enum BuildError {
     /// The compiler refused the code.
     #[error("{0}")]
     Compile(CompileError),
-    /// cargo refused before compiling (a manifest, a lock file): its first error line, [`quote`]d.
+    /// cargo refused before compiling (a manifest, a lock file): its first error line, [`quote()`]d.
     #[error("{message}")]
     Cargo {
         /// What cargo said.

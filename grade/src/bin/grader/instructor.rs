@@ -82,6 +82,23 @@ pub enum Command {
         #[arg(long, default_value = ".")]
         root: PathBuf,
     },
+    /// Find copied solutions across a class: every pair of submissions compared over their
+    /// solution regions, flagged pairs written to OUT/similarity.html and OUT/similarity.csv for a
+    /// person to look at (never a grade).
+    Similarity {
+        /// Submissions, or folders holding one submission per subfolder (as `grader batch`).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Where to write the page and the CSV.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Earlier classes' submissions to compare each student with (not with each other).
+        #[arg(long, value_name = "DIR", num_args = 1..)]
+        against: Vec<PathBuf>,
+        /// The instructor's repository.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+    },
 }
 
 /// Runs one of the instructor's commands.
@@ -95,7 +112,32 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         Command::MakeVariant { name, out, root } => make_variant(&root, &name, &out),
         Command::Fingerprints { root, table } => fingerprints(&root, &table),
         Command::Package { platform: _, out, root } => package(&root, &out),
+        Command::Similarity { dirs, out, against, root } => similarity(&root, &dirs, &against, &out),
     }
+}
+
+fn similarity(root: &Path, dirs: &[PathBuf], against: &[PathBuf], out: &Path) -> Result<ExitCode, CliError> {
+    use raylab_grade::instructor::similarity::class::similarity;
+    use raylab_grade::instructor::similarity::page::{write, CSV, PAGE};
+    eprintln!("grader: reading and comparing the submissions' solution regions");
+    let class = similarity(root, dirs, against, &out.join(".work"))?;
+    write(&class, out)?;
+    let names = &class.comparison.names;
+    for pair in class.flagged() {
+        println!("flagged: {} and {} (score {:.2})", names[pair.a], names[pair.b], pair.score);
+    }
+    for (student, why) in &class.unread {
+        println!("not read: {student}: {why}");
+    }
+    println!(
+        "grader: {} students, {} flagged pairs, {} clusters; the page is {}, every pair in {}",
+        class.students,
+        class.flagged().count(),
+        class.clusters.len(),
+        out.join(PAGE).display(),
+        out.join(CSV).display()
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 fn package(root: &Path, out: &Path) -> Result<ExitCode, CliError> {

@@ -3,26 +3,36 @@
 //!
 //! Only the text of solution regions is compared: everything else is the starter's, the same for
 //! every student. Each region's text is normalised so that disguise changes nothing
-//! ([`normalise`]: names bound in the region, literal spelling, whitespace, comments, layout, the
-//! order of independent `let`s, dead `let`s), fingerprinted by winnowing ([`winnow`], the method
+//! ([`mod@normalise`]: names bound in the region, literal spelling, whitespace, comments, layout, the
+//! order of independent `let`s, dead `let`s), fingerprinted by winnowing ([`mod@winnow`], the method
 //! of MOSS and Dolos: chosen over JPlag's greedy string tiling because fingerprints compare a
 //! class of `n` in `n` fingerprintings and cheap set intersections, and their matches point at
 //! lines), and scored against what independent implementations of that region reach ([`score`]).
-//! A pair's score is a standard score: how many standard deviations more alike than independent
-//! students its regions are, combined over the regions both wrote.
+//! A pair's score weighs how many of its regions are as alike as independent students' rarely are.
 //!
 //! It flags for a person to look at. Code written with the same assistant or tutorial can look
 //! copied; a flag is a reason to talk with a student, never evidence, and it never changes a grade.
 
+pub mod class;
+pub mod disguise;
+pub mod measure;
 pub mod normalise;
+pub mod page;
+pub mod read;
 pub mod score;
+pub mod test_set;
 pub mod winnow;
 
 use std::collections::{BTreeMap, HashSet};
 
 use normalise::{normalise, Token};
-use score::{stouffer, Null, RegionTexts, Weights};
+use score::{copy_score, Null, RegionTexts, Weights};
 use winnow::{winnow, Print};
+
+/// The score above which a pair is flagged for a person to look at: the score at most one pair of
+/// independent students in a thousand exceeds, set on classes drawn from one half of the test
+/// set's authors (`grade/tests/similarity.rs` checks it is that measurement's, rounded up).
+pub const FLAG_SCORE: f64 = 1.15;
 
 /// One author's region texts: a student, an independent implementation, the solution.
 #[derive(Clone, Debug, Default)]
@@ -60,8 +70,8 @@ pub struct RegionScore {
     pub region: String,
     /// Its similarity `S`, in `[0, 1]`.
     pub similarity: f64,
-    /// Its standard score against independent pairs.
-    pub z: f64,
+    /// `Λ`: how much likelier this similarity is for a copy than for independent work.
+    pub ratio: f64,
 }
 
 /// How alike two authors are.
@@ -73,8 +83,8 @@ pub struct Pair {
     pub b: usize,
     /// The regions both wrote, most unusual first.
     pub regions: Vec<RegionScore>,
-    /// Their combined standard score (Stouffer's).
-    pub z: f64,
+    /// The log-likelihood ratio of copying over independence ([`score::copy_score`]).
+    pub score: f64,
 }
 
 /// A class compared.
@@ -122,10 +132,7 @@ pub fn compare(
         let sample: Vec<&Text> = independent.iter().filter_map(|t| t.get(region)).collect();
         let s: Vec<f64> =
             pairs_of(sample.len()).map(|(i, j)| w.similarity(&sample[i].prints, &sample[j].prints)).collect();
-        let mut counts: Vec<f64> = sample.iter().map(|t| t.prints.len() as f64).collect();
-        counts.sort_by(f64::total_cmp);
-        let median = counts.get(counts.len() / 2).copied().unwrap_or(1.0);
-        nulls.insert(region.clone(), Null::of(&s, median));
+        nulls.insert(region.clone(), Null::of(&s));
         weights.insert(region.clone(), w);
     }
     let n = students.len();
@@ -133,7 +140,7 @@ pub fn compare(
         .flat_map(|a| (a + 1..texts.len()).map(move |b| (a, b)))
         .map(|(a, b)| pair(a, b, &texts, &weights, &nulls))
         .collect();
-    pairs.sort_by(|p, q| q.z.total_cmp(&p.z).then((p.a, p.b).cmp(&(q.a, q.b))));
+    pairs.sort_by(|p, q| q.score.total_cmp(&p.score).then((p.a, p.b).cmp(&(q.a, q.b))));
     let names = students.iter().chain(others).map(|a| a.name.clone()).collect();
     Comparison { names, texts, pairs, nulls }
 }
@@ -156,10 +163,11 @@ fn pair(
         .filter_map(|(region, ta)| {
             let tb = texts[b].get(region)?;
             let similarity = weights.get(region)?.similarity(&ta.prints, &tb.prints);
-            Some(RegionScore { region: region.clone(), similarity, z: nulls.get(region)?.z(similarity) })
+            let ratio = nulls.get(region)?.likelihood_ratio(similarity);
+            Some(RegionScore { region: region.clone(), similarity, ratio })
         })
         .collect();
-    regions.sort_by(|p, q| q.z.total_cmp(&p.z));
-    let z = stouffer(&regions.iter().map(|r| r.z).collect::<Vec<_>>());
-    Pair { a, b, regions, z }
+    regions.sort_by(|p, q| q.ratio.total_cmp(&p.ratio).then_with(|| p.region.cmp(&q.region)));
+    let score = copy_score(&regions.iter().map(|r| r.ratio).collect::<Vec<_>>());
+    Pair { a, b, regions, score }
 }

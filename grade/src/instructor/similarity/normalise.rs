@@ -59,7 +59,7 @@ pub fn normalise(body: &str) -> Vec<Token> {
 }
 
 /// Every name a pattern or a nested `fn` binds anywhere in `block`.
-fn bound_names(block: &syn::Block) -> HashSet<String> {
+pub(super) fn bound_names(block: &syn::Block) -> HashSet<String> {
     struct Binder(HashSet<String>);
     impl Visit<'_> for Binder {
         fn visit_pat_ident(&mut self, p: &syn::PatIdent) {
@@ -90,7 +90,7 @@ impl VisitMut for Canonical<'_> {
 }
 
 /// The names a `let` binds (none for any other statement).
-fn binds(stmt: &syn::Stmt) -> BTreeSet<String> {
+pub(super) fn binds(stmt: &syn::Stmt) -> BTreeSet<String> {
     struct Names(BTreeSet<String>);
     impl Visit<'_> for Names {
         fn visit_pat_ident(&mut self, p: &syn::PatIdent) {
@@ -105,17 +105,20 @@ fn binds(stmt: &syn::Stmt) -> BTreeSet<String> {
     names.0
 }
 
-/// Every identifier written in `stmt` (a superset of the names it uses).
-fn mentions(stmt: &syn::Stmt) -> HashSet<String> {
+/// Every identifier written in `stmt` but those after a `.` (fields and methods, which no binding
+/// can be): a superset of the names it uses.
+pub(super) fn mentions(stmt: &syn::Stmt) -> HashSet<String> {
     fn walk(stream: TokenStream, out: &mut HashSet<String>) {
+        let mut dots = Dots::default();
         for tree in stream {
-            match tree {
-                TokenTree::Ident(i) => {
+            match &tree {
+                TokenTree::Ident(i) if !dots.after_member() => {
                     out.insert(i.to_string());
                 }
                 TokenTree::Group(g) => walk(g.stream(), out),
                 _ => {}
             }
+            dots.see(matches!(&tree, TokenTree::Punct(p) if p.as_char() == '.'));
         }
     }
     let mut out = HashSet::new();
@@ -184,7 +187,7 @@ fn canonical_order(run: &[syn::Stmt], bound: &HashSet<String>) -> Vec<usize> {
 
 /// Appends the normalised tokens of `stream` to `out`.
 fn emit(stream: TokenStream, bound: &HashSet<String>, out: &mut Vec<Token>) {
-    let mut after_dot = false;
+    let mut dots = Dots::default();
     for tree in stream {
         let line = tree.span().start().line.saturating_sub(1).max(1);
         let text = match &tree {
@@ -203,12 +206,12 @@ fn emit(stream: TokenStream, bound: &HashSet<String>, out: &mut Vec<Token>) {
                     let line = g.span_close().start().line.saturating_sub(1).max(1);
                     out.push(Token { text: close.to_string(), line });
                 }
-                after_dot = false;
+                dots.see(false);
                 continue;
             }
             TokenTree::Ident(i) => {
                 let name = i.to_string();
-                if !after_dot && bound.contains(&name) {
+                if !dots.after_member() && bound.contains(&name) {
                     "$v".to_string()
                 } else {
                     name
@@ -217,25 +220,51 @@ fn emit(stream: TokenStream, bound: &HashSet<String>, out: &mut Vec<Token>) {
             TokenTree::Punct(p) => p.as_char().to_string(),
             TokenTree::Literal(l) => literal(&l.to_string()),
         };
-        after_dot = text == ".";
+        dots.see(text == ".");
         out.push(Token { text, line });
     }
 }
 
-/// A literal as its value: numbers by value whatever their spelling, strings and chars as `$s`.
+/// Whether a token follows a member's `.` (`a.b`: a field or a method, never a binding), not a
+/// range's `..`: the count of dots just seen.
+#[derive(Default)]
+pub(super) struct Dots(u8);
+
+impl Dots {
+    /// Whether the last token was a lone `.`.
+    pub(super) fn after_member(&self) -> bool {
+        self.0 == 1
+    }
+
+    /// Counts one more token, a dot or not.
+    pub(super) fn see(&mut self, dot: bool) {
+        self.0 = if dot { self.0.saturating_add(1) } else { 0 };
+    }
+}
+
+/// A literal as its value: numbers by value whatever their spelling (decimal, exponent, hex,
+/// octal, binary, suffix, underscores), strings and chars as `$s`.
 fn literal(text: &str) -> String {
     if !text.starts_with(|c: char| c.is_ascii_digit()) {
         return "$s".to_string();
     }
     let digits: String = text.chars().filter(|&c| c != '_').collect();
-    let number = ["f32", "f64", "u8", "u16", "u32", "u64", "usize", "i8", "i16", "i32", "i64", "isize"]
-        .iter()
-        .find_map(|suffix| digits.strip_suffix(suffix))
-        .unwrap_or(&digits);
-    match number.parse::<f64>() {
-        Ok(value) => format!("{value}"),
-        Err(_) => number.to_string(),
-    }
+    let radix =
+        [("0x", 16), ("0o", 8), ("0b", 2)].iter().find_map(|(p, r)| digits.strip_prefix(p).map(|n| (n, *r)));
+    let value = match radix {
+        // `f32` is hex digits (`0x2f32` is one number): only integer suffixes end a hex literal.
+        Some((number, radix)) => {
+            let number = number.find(['u', 'i']).map_or(number, |at| &number[..at]);
+            u64::from_str_radix(number, radix).ok().map(|v| v as f64)
+        }
+        None => {
+            let number = digits
+                .find(|c: char| c.is_ascii_alphabetic() && !matches!(c, 'e' | 'E'))
+                .map_or(&*digits, |at| &digits[..at]);
+            number.parse::<f64>().ok()
+        }
+    };
+    value.map_or(digits, |v| format!("{v}"))
 }
 
 #[cfg(test)]

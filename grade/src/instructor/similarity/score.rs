@@ -1,26 +1,47 @@
-//! How alike two texts of one region are, and how unusual that is for the region.
+//! How alike two texts of one region are, and how much likelier that is for a copy than for
+//! independent work.
 //!
-//! **Similarity** of texts `a` and `b` of one region: the weight of the fingerprints they share
-//! over the weight of the smaller text's, `S = Σ_{f ∈ a ∩ b} w_f / min(Σ_a w_f, Σ_b w_f)`, in
-//! `[0, 1]`. A fingerprint's weight is its rarity among all the texts of that region at hand
-//! (class and references), `w_f = ln(1 + N / n_f)` for `n_f` of the `N` texts holding it: the
-//! textbook core every student writes weighs little, a shared oddity much. Fingerprints of the
-//! starter's stub never count (a student who left its `let _ = ...` line shares nothing by it).
-//! The smaller text is the yardstick so that padding one copy with new code does not hide it.
+//! **Similarity** of texts `a` and `b` of one region: the weighted Dice coefficient of their
+//! fingerprints, `S = 2 Σ_{f ∈ a ∩ b} w_f / (Σ_a w_f + Σ_b w_f)`, in `[0, 1]`, 1 only for the same
+//! fingerprints. A fingerprint's weight is its rarity among the distinct texts of that region at
+//! hand (class and references), `w_f = ln(1 + N / n_f)` for `n_f` of the `N` distinct texts
+//! holding it: the textbook core every student writes weighs little, a shared oddity much, and
+//! copies of one text, counted once, do not make their own fingerprints look common. Fingerprints
+//! of the starter's stub never count (a student who left its `let _ = ...` line shares nothing by
+//! it). Dice, not containment in the smaller text: on the test set, containment put eight pairs of
+//! independent regions at 1 (a short text inside a long one); padding a copy with unused code,
+//! the reason to prefer containment, is undone before (`normalise`).
 //!
-//! **Unusualness**: independent solutions of a short function are bound to be alike (fifteen lines
-//! of Möller-Trumbore leave little choice), so `S` alone says little. Each region's `S` is turned
-//! into standard scores against the pairs of independent implementations of that region
-//! (the test set, `grade/tests/similarity/`), `z = (S − mean) / sd`; the sd is at least one
-//! fingerprint's share of a median text (`1 / median prints`), the measure's own resolution, so a
-//! region that every independent pair shares nothing of does not turn one shared run into a
-//! flag. A pair's score combines its regions by Stouffer's method, `Z = Σ z / sqrt(R)` over the `R`
-//! regions both wrote: unusual likeness in many regions adds up, the same in one region counts
-//! for less.
+//! **How likely, copied or not.** Independent solutions of a short function are bound to be alike
+//! (fifteen lines of Möller-Trumbore leave little choice; the test set has independent pairs at
+//! `S = 1`), so `S` alone says little. For each region, the likelihood ratio
+//! `Λ(S) = P(S' ≈ S | copied) / P(S' ≈ S | independent)`, "≈" meaning within [`BANDWIDTH`]:
+//! - copied: after normalising, a copy is the same text; a copier who also edits a line or two
+//!   lands a little lower, so `S` is taken uniform on `[1 − δ, 1]`, `δ` = [`COPY_SPREAD`];
+//! - independent: counted among the pairs of independent implementations of that region (the test
+//!   set, `grade/tests/similarity/`), half a pair added, `(k + ½) / (n + 1)`, so no region is
+//!   ever certain.
+//!
+//! A region less alike than copies are has `Λ = 0`; one alike as only copies are, a large `Λ`.
+//!
+//! **A pair's score** is the log-likelihood ratio of "each region copied with probability `π`"
+//! over "independent": `Σ_r ln(1 − π + π Λ_r)`, with `π = 1 / (R + 1)` for the `R` regions both
+//! wrote (a priori about one region copied, never certain, even for `R = 1`). A region nothing like a copy costs `ln(1 − π)`, a little; each
+//! region alike as copies are adds as much as its likeness is rare among independent pairs.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 use crate::instructor::similarity::winnow::Print;
+
+/// `δ`: a copied region's similarity is taken uniform on `[1 − δ, 1]`. A fifth: a copier may
+/// rewrite a line in five and still be a copier; measured against a tenth and three tenths
+/// (docs/GRADING.md), a tenth misses copies no disguise of the test set makes, three tenths
+/// flag independent pairs twice as often.
+pub const COPY_SPREAD: f64 = 0.2;
+
+/// How near two similarities are to count as alike: half of [`COPY_SPREAD`], so a copy's whole
+/// range is two bandwidths.
+pub const BANDWIDTH: f64 = 0.1;
 
 /// The fingerprint hashes of each text of one region, the stub's removed.
 pub struct RegionTexts<'a> {
@@ -39,69 +60,70 @@ pub struct Weights {
 }
 
 impl Weights {
-    /// The weights over every text of the region at hand.
+    /// The weights over the distinct texts of the region at hand.
     pub fn of(texts: &RegionTexts) -> Weights {
+        let distinct: BTreeSet<BTreeSet<u64>> =
+            texts.prints.iter().map(|prints| prints.iter().map(|p| p.hash).collect()).collect();
         let mut held: HashMap<u64, usize> = HashMap::new();
-        for prints in &texts.prints {
-            let distinct: HashSet<u64> = prints.iter().map(|p| p.hash).collect();
-            for hash in distinct {
-                *held.entry(hash).or_default() += 1;
-            }
+        for hash in distinct.iter().flatten() {
+            *held.entry(*hash).or_default() += 1;
         }
-        let n = texts.prints.len().max(1) as f64;
+        let n = distinct.len().max(1) as f64;
         let weight = held.into_iter().map(|(hash, count)| (hash, (1.0 + n / count as f64).ln())).collect();
         Weights { weight, rarest: (1.0 + n).ln(), stub: texts.stub.clone() }
     }
 
-    /// The similarity `S` of two texts' fingerprints; 0 when either has none of its own.
+    /// The similarity `S` of two texts' fingerprints; 0 when neither has any of its own. Summed
+    /// in hash order, so the same texts give the same bits.
     pub fn similarity(&self, a: &[Print], b: &[Print]) -> f64 {
-        let set = |prints: &[Print]| -> HashSet<u64> {
+        let set = |prints: &[Print]| -> BTreeSet<u64> {
             prints.iter().map(|p| p.hash).filter(|h| !self.stub.contains(h)).collect()
         };
         let (a, b) = (set(a), set(b));
         // A fingerprint not among the texts the weights were made from is as rare as can be.
         let w = |h: &u64| self.weight.get(h).copied().unwrap_or(self.rarest);
-        let total = |s: &HashSet<u64>| s.iter().map(w).sum::<f64>();
-        let smaller = total(&a).min(total(&b));
-        if smaller <= 0.0 {
+        let both = a.iter().map(w).sum::<f64>() + b.iter().map(w).sum::<f64>();
+        if both <= 0.0 {
             return 0.0;
         }
-        a.intersection(&b).map(w).sum::<f64>() / smaller
+        2.0 * a.intersection(&b).map(w).sum::<f64>() / both
     }
 }
 
-/// What independent pairs of one region reach: the mean and sd that a pair's `S` is scored by.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What independent pairs of one region reach: their similarities, in order.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Null {
-    /// The mean `S` of independent pairs.
-    pub mean: f64,
-    /// Their sd, at least the measure's resolution.
-    pub sd: f64,
+    sorted: Vec<f64>,
 }
 
 impl Null {
-    /// The null of the similarities `s` of independent pairs, whose texts have a median of
-    /// `median_prints` fingerprints.
-    pub fn of(s: &[f64], median_prints: f64) -> Null {
-        let n = s.len().max(1) as f64;
-        let mean = s.iter().sum::<f64>() / n;
-        let var = s.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-        Null { mean, sd: var.sqrt().max(1.0 / median_prints.max(1.0)) }
+    /// The null of the similarities `s` of independent pairs.
+    pub fn of(s: &[f64]) -> Null {
+        let mut sorted = s.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        Null { sorted }
     }
 
-    /// The standard score of a similarity.
-    pub fn z(&self, s: f64) -> f64 {
-        (s - self.mean) / self.sd
+    /// `Λ(s)`: the chance of a similarity within [`BANDWIDTH`] of `s` for a copy over that for
+    /// an independent pair.
+    pub fn likelihood_ratio(&self, s: f64) -> f64 {
+        let (lo, hi) = ((s - BANDWIDTH).max(0.0), (s + BANDWIDTH).min(1.0));
+        let copied = (hi - lo.max(1.0 - COPY_SPREAD)).max(0.0) / COPY_SPREAD;
+        let near = self.sorted.partition_point(|&x| x <= hi) - self.sorted.partition_point(|&x| x < lo);
+        copied / ((near as f64 + 0.5) / (self.sorted.len() as f64 + 1.0))
+    }
+
+    /// How many independent pairs it holds.
+    pub fn pairs(&self) -> usize {
+        self.sorted.len()
     }
 }
 
-/// Stouffer's combination of the regions' standard scores: `Σ z / sqrt(R)`; 0 for no region.
-pub fn stouffer(z: &[f64]) -> f64 {
-    if z.is_empty() {
-        0.0
-    } else {
-        z.iter().sum::<f64>() / (z.len() as f64).sqrt()
-    }
+/// A pair's score from its regions' likelihood ratios: `Σ ln(1 − π + π Λ)`, `π = 1 / (R + 1)`;
+/// 0 for no region.
+pub fn copy_score(ratios: &[f64]) -> f64 {
+    let prior = 1.0 / (ratios.len() + 1) as f64;
+    ratios.iter().map(|lr| (1.0 - prior + prior * lr).ln()).sum()
 }
 
 #[cfg(test)]
@@ -132,24 +154,42 @@ mod tests {
     }
 
     #[test]
-    fn similarity_never_counts_the_stub_and_uses_the_smaller_text() {
+    fn similarity_never_counts_the_stub_and_is_one_only_for_the_same_prints() {
         let stub: HashSet<u64> = [7].into();
         let texts = [prints(&[7, 1]), prints(&[7, 2])];
         let weights = Weights::of(&RegionTexts { prints: texts.iter().map(Vec::as_slice).collect(), stub });
         assert_eq!(weights.similarity(&texts[0], &texts[1]), 0.0, "only the stub's line is shared");
         assert_eq!(weights.similarity(&prints(&[7]), &prints(&[7])), 0.0, "a stub is nobody's text");
-        // A copy padded with new code is still wholly contained.
-        assert_eq!(weights.similarity(&prints(&[1]), &prints(&[1, 3, 4, 5])), 1.0);
+        // A short text inside a long one is not the same text: Dice, 2 * 1 / (1 + 4) of equal weights.
+        let inside = weights.similarity(&prints(&[1]), &prints(&[1, 3, 4, 5]));
+        assert!((inside - 0.4).abs() < 1e-12, "{inside}");
     }
 
     #[test]
-    fn similarity_scores_against_independent_pairs_with_a_floor_on_their_spread() {
-        let null = Null::of(&[0.2, 0.4, 0.3, 0.3], 100.0);
-        assert!((null.mean - 0.3).abs() < 1e-12);
-        assert!((null.sd - (0.02f64 / 3.0).sqrt()).abs() < 1e-12);
-        // Independent pairs that share nothing: the spread is one print in ten.
-        assert_eq!(Null::of(&[0.0, 0.0], 10.0).sd, 0.1);
-        assert!((stouffer(&[2.0, 2.0, 2.0, 2.0]) - 4.0).abs() < 1e-12);
-        assert_eq!(stouffer(&[]), 0.0);
+    fn similarity_likelihood_ratio_compares_a_copy_s_chance_with_independent_pairs() {
+        // Four independent pairs, one of them at 1.
+        let null = Null::of(&[0.2, 0.4, 0.3, 1.0]);
+        // At 1: a copy is within 0.1 half the time (uniform on [0.8, 1]); independent pairs
+        // 1 of 4, (1 + 1/2) / 5.
+        assert!((null.likelihood_ratio(1.0) - 0.5 / (1.5 / 5.0)).abs() < 1e-12);
+        // At 0.85: the whole copy range [0.8, 0.95] ∩ [0.8, 1] is 0.15 / 0.2; no pair near.
+        assert!((null.likelihood_ratio(0.85) - 0.75 / (0.5 / 5.0)).abs() < 1e-12);
+        // Far from 1: no copy is that unlike.
+        assert_eq!(null.likelihood_ratio(0.5), 0.0);
+        // Never certain, even with no pairs at all.
+        assert!(Null::of(&[]).likelihood_ratio(1.0).is_finite());
+    }
+
+    #[test]
+    fn similarity_pair_score_counts_unusual_regions_and_barely_the_others() {
+        let usual = [0.0; 11];
+        assert!(copy_score(&usual) < 0.0 && copy_score(&usual) > -1.0, "{}", copy_score(&usual));
+        let one = copy_score(&[[20.0].as_slice(), &[0.0; 10]].concat());
+        let four = copy_score(&[[20.0; 4].as_slice(), &[0.0; 7]].concat());
+        assert!(one > 0.0 && four > 4.0 * one, "{one} {four}");
+        // One region: pi = 1/2, ln(1/2 + 1/2 * 3).
+        assert!((copy_score(&[3.0]) - 2.0f64.ln()).abs() < 1e-12);
+        assert!(copy_score(&[0.0]).is_finite(), "one unlike region is not minus infinity");
+        assert_eq!(copy_score(&[]), 0.0);
     }
 }

@@ -49,7 +49,7 @@ impl ChildRun {
         self.status.is_some_and(|s| s.success())
     }
 
-    /// Why the child failed, in one line, with what it said quoted ([`quote`]): for public
+    /// Why the child failed, in one line, with what it said quoted ([`quote()`]): for public
     /// checks.
     pub fn failure_reason(&self, limit: Duration) -> String {
         self.failure(limit).to_string()
@@ -137,7 +137,7 @@ impl std::fmt::Display for Category {
     }
 }
 
-/// Why a child failed: its category, and what it wrote, already [`quote`]d.
+/// Why a child failed: its category, and what it wrote, already [`quote()`]d.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Failure {
     /// The fixed word.

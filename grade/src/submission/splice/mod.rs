@@ -220,7 +220,7 @@ pub use crate::regions::baseline::HIDDEN_DIRS;
 
 /// A submission's region file: its text and regions, or why it gives none (missing, not a plain
 /// file, too large, not UTF-8, does not lex).
-fn submission_file(submission: &Path, file: &Path) -> Result<(String, Vec<Found>), Unfound> {
+pub fn submission_file(submission: &Path, file: &Path) -> Result<(String, Vec<Found>), Unfound> {
     let mut folder = submission.to_path_buf();
     for component in file.parent().into_iter().flat_map(Path::components) {
         folder.push(component);

@@ -24,6 +24,12 @@ fn similarity_normalising_forgets_names_bound_in_the_region_and_keeps_the_others
     // A parameter, a field and a method are not the region's to rename.
     assert!(text(ORIGINAL).contains("ray . dir . cross"), "{}", text(ORIGINAL));
     assert_ne!(text(ORIGINAL), text(&ORIGINAL.replace("cross", "dot")));
+    // A range's end is a name like any other, a field is not.
+    assert_eq!(
+        text("let n = 3; for i in 0..n { f(i); } let m = x.n; m"),
+        text("let k = 3; for j in 0..k { f(j); } let q = x.n; q")
+    );
+    assert_ne!(text("let n = 3; let m = x.n; m + n"), text("let k = 3; let q = x.k; q + k"));
 }
 
 #[test]

@@ -1,0 +1,189 @@
+//! The similarity page and CSV: the flagged pairs ranked, the clusters, and each flagged pair's
+//! regions side by side with the lines their shared fingerprints cover marked.
+
+use std::collections::BTreeSet;
+use std::fmt::Write;
+
+use std::path::Path;
+
+use crate::file_error::FileError;
+use crate::instructor::similarity::class::ClassSimilarity;
+use crate::instructor::similarity::{Pair, Text, FLAG_SCORE};
+use crate::report::html::escape;
+
+/// The page, in `OUT`.
+pub const PAGE: &str = "similarity.html";
+/// The CSV of every pair, in `OUT`.
+pub const CSV: &str = "similarity.csv";
+
+/// Writes [`PAGE`] and [`CSV`] into `out`, each whole or not at all.
+pub fn write(class: &ClassSimilarity, out: &Path) -> Result<(), FileError> {
+    std::fs::create_dir_all(out).map_err(|e| FileError::unwritable(out, &e))?;
+    for (name, text) in [(PAGE, page(class)), (CSV, csv(class))] {
+        let path = out.join(name);
+        raylab_base::image_io::write_file_atomic(&path, text.as_bytes())
+            .map_err(|e| FileError::unwritable(&path, &e))?;
+    }
+    Ok(())
+}
+
+/// Pairs shown under the threshold, for scale.
+const UNFLAGGED_SHOWN: usize = 10;
+
+/// Flagged pairs listed in the table, and shown side by side: the page stays readable (and
+/// small) even when a class is mostly copies; the CSV has every pair.
+const FLAGGED_LISTED: usize = 300;
+const FLAGGED_SHOWN: usize = 50;
+
+/// What the page says before any pair: what a flag is and is not.
+const CAVEAT: &str = "A flag marks two submissions whose solution regions are more alike than \
+independent students' are, region by region, after undoing renaming, literal spelling, layout, \
+comments, reordered and unused statements. It is a reason to look and to talk with the students, \
+not evidence: code written with the same assistant, tutorial or study group can look copied. \
+Nothing here changes a grade or reaches a student.";
+
+/// The CSV: every pair, highest score first.
+pub fn csv(class: &ClassSimilarity) -> String {
+    let names = &class.comparison.names;
+    let mut out = String::from("a,b,score,flagged,regions_alike,most_alike_region,most_alike_similarity\n");
+    for pair in &class.comparison.pairs {
+        let alike = pair.regions.iter().filter(|r| r.ratio > 1.0).count();
+        let top = pair.regions.first();
+        let _ = writeln!(
+            out,
+            "{},{},{:.3},{},{alike},{},{:.3}",
+            quoted(&names[pair.a]),
+            quoted(&names[pair.b]),
+            pair.score,
+            pair.score > FLAG_SCORE,
+            quoted(top.map_or("", |r| r.region.as_str())),
+            top.map_or(0.0, |r| r.similarity),
+        );
+    }
+    out
+}
+
+/// A CSV field, quoted.
+fn quoted(field: &str) -> String {
+    format!("\"{}\"", field.replace('"', "\"\""))
+}
+
+/// The HTML page.
+pub fn page(class: &ClassSimilarity) -> String {
+    let names = &class.comparison.names;
+    let flagged: Vec<&Pair> = class.flagged().collect();
+    let mut out = String::from(HEAD);
+    let _ = write!(
+        out,
+        "<h1>Similar submissions</h1><p class=caveat>{CAVEAT}</p><p>{} students, {} pairs compared \
+         (and each student with the solution{}); <b>{} flagged</b> (score above {FLAG_SCORE}).</p>",
+        class.students,
+        class.comparison.pairs.len(),
+        if names.len() > class.students + 1 { " and the earlier classes" } else { "" },
+        flagged.len(),
+    );
+    for (student, why) in &class.unread {
+        let _ = write!(out, "<p class=unread>Not read: {}: {}</p>", escape(student), escape(why));
+    }
+    if !class.clusters.is_empty() {
+        out += "<h2>Clusters (three or more joined by flags)</h2><ul>";
+        for cluster in &class.clusters {
+            let members: Vec<String> = cluster.iter().map(|&i| escape(&names[i])).collect();
+            let _ = write!(out, "<li>{}</li>", members.join(", "));
+        }
+        out += "</ul>";
+    }
+    out += "<h2>Pairs</h2><table><tr><th>#</th><th>submission</th><th>submission</th><th>score</th><th>regions alike</th></tr>";
+    let unflagged = class.comparison.pairs.iter().filter(|p| p.score <= FLAG_SCORE).take(UNFLAGGED_SHOWN);
+    for (rank, pair) in flagged.iter().take(FLAGGED_LISTED).copied().chain(unflagged).enumerate() {
+        let alike: Vec<String> =
+            pair.regions.iter().filter(|r| r.ratio > 1.0).map(|r| function(&r.region)).collect();
+        let link = match rank {
+            _ if pair.score <= FLAG_SCORE => String::new(),
+            r if r < FLAGGED_SHOWN => format!("<a href='#pair-{r}'>{}</a>", r + 1),
+            r => format!("{}", r + 1),
+        };
+        let _ = write!(
+            out,
+            "<tr class={}><td>{link}</td><td>{}</td><td>{}</td><td>{:.2}</td><td>{}</td></tr>",
+            if pair.score > FLAG_SCORE { "flag" } else { "quiet" },
+            escape(&names[pair.a]),
+            escape(&names[pair.b]),
+            pair.score,
+            escape(&alike.join(", ")),
+        );
+    }
+    out += "</table>";
+    if flagged.len() > FLAGGED_LISTED {
+        let _ = write!(out, "<p>{} more flagged pairs are in the CSV.</p>", flagged.len() - FLAGGED_LISTED);
+    }
+    if flagged.len() > FLAGGED_SHOWN {
+        let _ = write!(out, "<p>The first {FLAGGED_SHOWN} flagged pairs are shown side by side below.</p>");
+    }
+    for (rank, pair) in flagged.iter().take(FLAGGED_SHOWN).enumerate() {
+        out += &pair_view(class, pair, rank);
+    }
+    out + "</body></html>"
+}
+
+/// One flagged pair: each region both wrote, most unusual first, side by side.
+fn pair_view(class: &ClassSimilarity, pair: &Pair, rank: usize) -> String {
+    let (names, texts) = (&class.comparison.names, &class.comparison.texts);
+    let mut out = format!(
+        "<section id='pair-{rank}'><h2>{}. {} and {} (score {:.2})</h2>",
+        rank + 1,
+        escape(&names[pair.a]),
+        escape(&names[pair.b]),
+        pair.score
+    );
+    for region in &pair.regions {
+        let (a, b) = (&texts[pair.a][&region.region], &texts[pair.b][&region.region]);
+        let _ = write!(
+            out,
+            "<h3>{} <small>similarity {:.2}, {:.1}× likelier copied than independent</small></h3>\
+             <div class=sides><pre>{}</pre><pre>{}</pre></div>",
+            escape(&region.region),
+            region.similarity,
+            region.ratio,
+            marked(a, b),
+            marked(b, a)
+        );
+    }
+    out + "</section>"
+}
+
+/// `text`'s body, numbered, the lines its fingerprints shared with `other` marked.
+fn marked(text: &Text, other: &Text) -> String {
+    let theirs: BTreeSet<u64> = other.prints.iter().map(|p| p.hash).collect();
+    let lines: BTreeSet<usize> =
+        text.prints.iter().filter(|p| theirs.contains(&p.hash)).flat_map(|p| p.lines.clone()).collect();
+    let mut out = String::new();
+    for (i, line) in text.body.lines().enumerate() {
+        let n = i + 1;
+        let line = escape(line);
+        let _ = if lines.contains(&n) {
+            writeln!(out, "<span class=n>{n:3}</span> <mark>{line}</mark>")
+        } else {
+            writeln!(out, "<span class=n>{n:3}</span> {line}")
+        };
+    }
+    out
+}
+
+/// A region's function, for the table: `file::function` -> `function (file)`.
+fn function(region: &str) -> String {
+    match region.rsplit_once("::") {
+        Some((file, function)) => format!("{function} ({})", file.rsplit('/').next().unwrap_or(file)),
+        None => region.to_string(),
+    }
+}
+
+const HEAD: &str = "<!doctype html><html><head><meta charset=utf-8><title>Similar submissions</title><style>
+body{font:14px/1.4 system-ui,sans-serif;margin:24px;max-width:1400px}
+.caveat{background:#fff8e1;border-left:4px solid #f0b400;padding:8px 12px}
+table{border-collapse:collapse}td,th{padding:3px 10px;border-bottom:1px solid #ddd;text-align:left}
+tr.quiet{color:#888}.unread{color:#a00}
+.sides{display:grid;grid-template-columns:1fr 1fr;gap:12px}
+pre{background:#f6f6f6;padding:8px;overflow-x:auto;font-size:12px;margin:0}
+mark{background:#ffd54f}.n{color:#aaa}h3 small{font-weight:normal;color:#555}
+</style></head><body>";
