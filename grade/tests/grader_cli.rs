@@ -352,3 +352,92 @@ fn grader_batch_progress_counts_up_to_the_class_size() {
     assert_eq!(rows.len(), 2);
     assert_eq!((bar.position(), bar.length()), (2, Some(2)));
 }
+
+/// A student's tree: the solution's region files with each region's body replaced by `author`'s.
+#[cfg(feature = "instructor")]
+fn student_tree(dir: &Path, author: &raylab_grade::instructor::similarity::Author) {
+    use raylab_grade::regions::markers::find_regions;
+    for (id, body) in &author.regions {
+        let (file, function) = id.rsplit_once("::").unwrap();
+        let path = dir.join(file);
+        let text =
+            std::fs::read_to_string(if path.exists() { path.clone() } else { root().join(file) }).unwrap();
+        let found = find_regions(&text).unwrap().into_iter().find(|f| f.function == function).unwrap();
+        let edited = format!("{}{body}{}", &text[..found.body.start], &text[found.body.end..]);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, edited).unwrap();
+    }
+}
+
+#[test]
+#[cfg(feature = "instructor")]
+fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm() {
+    use raylab_grade::instructor::similarity::disguise::{disguise, Disguise};
+    use raylab_grade::instructor::similarity::test_set::{halves, independent};
+    let authors = independent(&root()).unwrap();
+    let (_, unseen) = halves(&authors);
+    let class = scratch("similarity-class");
+    for author in &unseen[..4] {
+        student_tree(&class.join(format!("student-{}", author.name)), author);
+    }
+    // A copy of the third under every disguise at once.
+    let mut copy = unseen[2].clone();
+    for (i, body) in copy.regions.values_mut().enumerate() {
+        *body = disguise(body, &Disguise::ALL, i as u64);
+    }
+    student_tree(&class.join("copier"), &copy);
+    // A hostile tree: a region file that is a link out, one of bytes that are not UTF-8, one that
+    // does not parse; the rest the fourth author's.
+    let hostile = class.join("hostile");
+    student_tree(&hostile, &unseen[3]);
+    std::fs::remove_file(hostile.join("src/geometry/triangle.rs")).unwrap();
+    std::os::unix::fs::symlink("/etc/passwd", hostile.join("src/geometry/triangle.rs")).unwrap();
+    std::fs::write(hostile.join("src/sampling.rs"), [0xff, 0xfe, b'{']).unwrap();
+    let material = std::fs::read_to_string(hostile.join("src/material.rs")).unwrap();
+    std::fs::write(hostile.join("src/material.rs"), material.replace("let ", "let = ;;{ ")).unwrap();
+    let out = scratch("similarity-out");
+    let output = grader(&[
+        "similarity",
+        class.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--root",
+        root().to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}{}", stderr(&output));
+    let copied = format!("flagged: copier and student-{}", unseen[2].name);
+    let copied_other_way = format!("flagged: student-{} and copier", unseen[2].name);
+    assert!(stdout.contains(&copied) || stdout.contains(&copied_other_way), "{stdout}");
+    let page = std::fs::read_to_string(out.join("similarity.html")).unwrap();
+    assert!(page.contains("<mark>") && page.contains("not evidence"), "the pair is shown side by side");
+    let csv = std::fs::read_to_string(out.join("similarity.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 15 + 6, "15 pairs of six students and 6 with the solution:\n{csv}");
+    assert!(!page.contains("root:x:0:0"), "a linked file is never read");
+    // Bad input: one line, exit 2.
+    let missing = grader(&[
+        "similarity",
+        "/no/such/class",
+        "--out",
+        out.to_str().unwrap(),
+        "--root",
+        root().to_str().unwrap(),
+    ]);
+    assert_eq!(missing.status.code(), Some(2), "{}", stderr(&missing));
+    assert_eq!(
+        stderr(&missing).lines().filter(|l| l.starts_with("grader:") && l.contains("no/such/class")).count(),
+        1,
+        "{}",
+        stderr(&missing)
+    );
+    let onto_a_file = out.join("similarity.csv");
+    let unwritable = grader(&[
+        "similarity",
+        class.to_str().unwrap(),
+        "--out",
+        onto_a_file.to_str().unwrap(),
+        "--root",
+        root().to_str().unwrap(),
+    ]);
+    assert_eq!(unwritable.status.code(), Some(2), "{}", stderr(&unwritable));
+}
