@@ -441,3 +441,28 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
     ]);
     assert_eq!(unwritable.status.code(), Some(2), "{}", stderr(&unwritable));
 }
+
+#[test]
+#[cfg(feature = "instructor")]
+fn grader_batch_writes_the_similarity_section_beside_the_grades() {
+    let class = scratch("batch-section-class");
+    for student in ["alice", "bob"] {
+        std::fs::write(class.join(format!("{student}.zip")), "not a zip").unwrap();
+    }
+    let out = scratch("batch-section-out");
+    let paths =
+        [class.to_str().unwrap(), out.to_str().unwrap(), root().to_str().unwrap()].map(str::to_string);
+    let output = grader(&["batch", &paths[0], "--out", &paths[1], "--root", &paths[2], "--no-sandbox"]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let index = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(
+        index.contains("<h2>Similar submissions</h2>") && index.contains("href='similarity.html'"),
+        "{index}"
+    );
+    assert!(out.join("similarity.csv").exists() && out.join("grades.csv").exists());
+    // Nothing of it in a student's files.
+    for student in ["alice", "bob"] {
+        let report = std::fs::read_to_string(out.join("students").join(student).join("report.txt")).unwrap();
+        assert!(!report.contains("imilar"), "{report}");
+    }
+}

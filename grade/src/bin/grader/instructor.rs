@@ -116,6 +116,24 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
     }
 }
 
+/// `grader batch`'s similarity section: the class compared, its page and CSV beside the class
+/// page, and a section in it.
+pub fn class_similarity(
+    root: &Path,
+    dirs: &[PathBuf],
+    out: &Path,
+    rows: &[raylab_grade::submission::batch::Row],
+) -> Result<(), CliError> {
+    use raylab_grade::instructor::similarity::{class::similarity, page};
+    eprintln!("grader: comparing the class's solution regions (copied solutions)");
+    let class = similarity(root, dirs, &[], &out.join(".work").join("similarity"))?;
+    page::write(&class, out)?;
+    let index = out.join("index.html");
+    let html = raylab_grade::submission::batch::class_page(rows, &page::class_section(&class));
+    write_file_atomic(&index, html.as_bytes()).map_err(|e| FileError::unwritable(&index, &e))?;
+    Ok(())
+}
+
 fn similarity(root: &Path, dirs: &[PathBuf], against: &[PathBuf], out: &Path) -> Result<ExitCode, CliError> {
     use raylab_grade::instructor::similarity::class::similarity;
     use raylab_grade::instructor::similarity::page::{write, CSV, PAGE};

@@ -289,7 +289,13 @@ fn batch(root: &Path, dirs: &[PathBuf], out: &Path) -> Result<ExitCode, CliError
     let progress = progress_bar(0);
     let rows = raylab_grade::submission::batch::grade_all(root, dirs, out, &progress);
     progress.finish_and_clear();
-    for row in rows? {
+    let rows = rows?;
+    // The grades are written: a class that cannot be compared costs its similarity section only.
+    #[cfg(feature = "instructor")]
+    if let Err(e) = instructor::class_similarity(root, dirs, out, &rows) {
+        eprintln!("grader: the similarity section was not written: {e}");
+    }
+    for row in rows {
         match row.graded {
             Ok(g) => println!("{}: {:.1} / {:.0}", row.student, g.isolated.score(), g.isolated.max_score()),
             Err(e) => println!("{}: not graded: {e}", row.student),

@@ -42,6 +42,31 @@ comments, reordered and unused statements. It is a reason to look and to talk wi
 not evidence: code written with the same assistant, tutorial or study group can look copied. \
 Nothing here changes a grade or reaches a student.";
 
+/// The class page's section (`grader batch`): how many pairs are flagged, the clusters, the first
+/// flagged pairs, and a link to [`PAGE`].
+pub fn class_section(class: &ClassSimilarity) -> String {
+    let names = &class.comparison.names;
+    let flagged: Vec<&Pair> = class.flagged().collect();
+    let mut out = format!(
+        "<h2>Similar submissions</h2><p><b>{} of {} pairs flagged</b> (score above {FLAG_SCORE}), \
+         {} clusters of three or more: <a href='{PAGE}'>side by side</a>, every pair in \
+         <a href='{CSV}'>{CSV}</a>. {CAVEAT}</p><ul>",
+        flagged.len(),
+        class.comparison.pairs.len(),
+        class.clusters.len()
+    );
+    for pair in flagged.iter().take(UNFLAGGED_SHOWN) {
+        let _ = write!(
+            out,
+            "<li>{} and {}: {:.2}</li>",
+            escape(&names[pair.a]),
+            escape(&names[pair.b]),
+            pair.score
+        );
+    }
+    out + "</ul>\n"
+}
+
 /// The CSV: every pair, highest score first.
 pub fn csv(class: &ClassSimilarity) -> String {
     let names = &class.comparison.names;

@@ -185,7 +185,7 @@ pub fn grade_all(
     }
     let _ = std::fs::remove_dir_all(&unpacked);
     write(&out.join("grades.csv"), &csv(&rows))?;
-    write(&out.join("index.html"), &class_page(&rows))?;
+    write(&out.join("index.html"), &class_page(&rows, ""))?;
     Ok(rows)
 }
 
@@ -262,9 +262,9 @@ pub fn csv(rows: &[Row]) -> String {
     out
 }
 
-/// The class page: per checkpoint a histogram of the points (ten bins of its maximum), and the
-/// failing unit tests most students share.
-pub fn class_page(rows: &[Row]) -> String {
+/// The class page: per checkpoint a histogram of the points (ten bins of its maximum), the
+/// failing unit tests most students share, and `more` (HTML: the instructor's similarity section).
+pub fn class_page(rows: &[Row], more: &str) -> String {
     let graded: Vec<&SubmissionReport> = rows.iter().filter_map(|r| r.graded.as_ref().ok()).collect();
     let mut h = String::from(
         "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>raylab: the class</title>\
@@ -272,7 +272,7 @@ pub fn class_page(rows: &[Row]) -> String {
          td{padding:.1em .6em}</style></head><body>\n",
     );
     let _ = writeln!(h, "<h1>raylab: {} submissions, {} graded</h1>", rows.len(), graded.len());
-    let Some(first) = graded.first() else { return h + "</body></html>\n" };
+    let Some(first) = graded.first() else { return h + more + "</body></html>\n" };
     for (i, c) in first.isolated.checkpoints.iter().enumerate() {
         let max = c.max_score(true).max(1e-9);
         let mut bins = [0usize; 10];
@@ -319,7 +319,7 @@ pub fn class_page(rows: &[Row]) -> String {
             escape(test)
         );
     }
-    h + "</table>\n</body></html>\n"
+    h + "</table>\n" + more + "</body></html>\n"
 }
 
 #[cfg(test)]
