@@ -21,6 +21,7 @@ mod first_build;
 mod gradescope;
 mod handouts;
 mod layers;
+mod similarity_export;
 mod stage_points;
 mod starter;
 mod stub_matrix;
@@ -70,6 +71,16 @@ enum Command {
         /// Only these mistakes (default: every one).
         mistakes: Vec<String>,
     },
+    /// Write the similarity engine's measured classes as files, for its peers to be run on the
+    /// same pairs (tools/similarity-peers/).
+    SimilarityExport {
+        /// Where to write them.
+        #[arg(long)]
+        out: PathBuf,
+        /// How many classes (of 60 students).
+        #[arg(long, default_value_t = 3)]
+        classes: usize,
+    },
     /// Time a student's first `cargo test checkpoint2` in a fresh starter with a cold target
     /// folder, and the edit-to-result time after one edit (docs/PERFORMANCE.md).
     FirstBuild,
@@ -101,6 +112,7 @@ fn main() -> ExitCode {
         Command::Layers => layers::layers(),
         Command::Zoo => zoo::zoo(),
         Command::StagePoints { mistakes } => stage_points::stage_points(&mistakes),
+        Command::SimilarityExport { out, classes } => similarity_export::similarity_export(&out, classes),
         Command::FirstBuild => first_build::first_build(),
         Command::StudentLoop { runs } => student_loop::student_loop(runs),
         Command::GradescopeDryRun { emulate } => gradescope::gradescope_dry_run(emulate),

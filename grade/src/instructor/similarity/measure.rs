@@ -40,6 +40,10 @@ pub enum Copied {
 /// One pair of a synthetic class, scored, with what it truly is.
 #[derive(Clone, Debug)]
 pub struct Labelled {
+    /// The first student, by index in its class.
+    pub a: usize,
+    /// The second (`a < b`).
+    pub b: usize,
     /// The engine's score.
     pub score: f64,
     /// Regions whose text comes from the same author.
@@ -67,6 +71,34 @@ struct Drawn {
     copy: Option<(usize, Copied, &'static [Disguise])>,
 }
 
+/// One synthetic class: its students' texts, and where each region came from.
+pub struct Synthetic {
+    /// The students, each a mosaic of authors' disguised texts.
+    pub students: Vec<Author>,
+    drawn: Vec<Drawn>,
+    regions: Vec<String>,
+}
+
+impl Synthetic {
+    /// Class `class` drawn from `authors` with `seed`, over the regions of `stubs` they all wrote.
+    pub fn draw(authors: &[Author], stubs: &BTreeMap<String, String>, class: usize, seed: u64) -> Synthetic {
+        let regions: Vec<String> =
+            stubs.keys().filter(|r| authors.iter().all(|a| a.regions.contains_key(*r))).cloned().collect();
+        let mut rng = Rng::new(seed, class as u64);
+        let drawn = draw_class(authors.len(), &regions, &mut rng);
+        let students = write_class(&drawn, authors, &mut rng);
+        Synthetic { students, drawn, regions }
+    }
+
+    /// What students `a < b` truly are to each other, with `score`.
+    pub fn label(&self, a: usize, b: usize, score: f64) -> Labelled {
+        let (da, db) = (&self.drawn[a], &self.drawn[b]);
+        let shared = self.regions.iter().filter(|r| da.authors[*r] == db.authors[*r]).count();
+        let copy = db.copy.filter(|c| c.0 == a).map(|(_, copied, d)| (copied, d));
+        Labelled { a, b, score, shared, copy }
+    }
+}
+
 /// Every pair of `classes` classes drawn from `authors` (seeded by `seed`), scored against the
 /// null of `independent`, with the `stubs`' fingerprints left out.
 pub fn measure(
@@ -76,18 +108,11 @@ pub fn measure(
     classes: usize,
     seed: u64,
 ) -> Vec<Labelled> {
-    let regions: Vec<String> =
-        stubs.keys().filter(|r| authors.iter().all(|a| a.regions.contains_key(*r))).cloned().collect();
     let mut out = Vec::new();
     for class in 0..classes {
-        let mut rng = Rng::new(seed, class as u64);
-        let drawn = draw_class(authors.len(), &regions, &mut rng);
-        let students = write_class(&drawn, authors, &mut rng);
-        for pair in compare(&students, &[], independent, stubs).pairs {
-            let (a, b) = (&drawn[pair.a], &drawn[pair.b]);
-            let shared = regions.iter().filter(|r| a.authors[*r] == b.authors[*r]).count();
-            let copy = b.copy.filter(|c| c.0 == pair.a).map(|(_, copied, d)| (copied, d));
-            out.push(Labelled { score: pair.score, shared, copy });
+        let synthetic = Synthetic::draw(authors, stubs, class, seed);
+        for pair in compare(&synthetic.students, &[], independent, stubs).pairs {
+            out.push(synthetic.label(pair.a, pair.b, pair.score));
         }
     }
     out
