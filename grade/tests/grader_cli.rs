@@ -386,6 +386,24 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
         *body = disguise(body, &Disguise::ALL, i as u64);
     }
     student_tree(&class.join("copier"), &copy);
+    // The published solution in disguise, one region its own (a catalogue variant differs from
+    // the solution in one region too).
+    let tree = raylab_grade::instructor::similarity::read::tree_regions(&root()).unwrap();
+    let mut solution = unseen[0].clone();
+    for (i, (id, body)) in solution.regions.iter_mut().enumerate().skip(1) {
+        *body = disguise(&tree.solution.regions[id], &Disguise::ALL, i as u64);
+    }
+    student_tree(&class.join("from-the-solution"), &solution);
+    // A student of an earlier class, whose code the first copied.
+    let earlier = scratch("similarity-earlier");
+    student_tree(&earlier.join("senior"), &unseen[4]);
+    student_tree(&earlier.join("other-senior"), &unseen[5]);
+    let mut first = unseen[4].clone();
+    first
+        .regions
+        .values_mut()
+        .for_each(|body| *body = disguise(body, &[Disguise::Rename, Disguise::Layout], 1));
+    student_tree(&class.join("junior"), &first);
     // A hostile tree: a region file that is a link out, one of bytes that are not UTF-8, one that
     // does not parse; the rest the fourth author's.
     let hostile = class.join("hostile");
@@ -401,6 +419,8 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
         class.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
+        "--against",
+        earlier.to_str().unwrap(),
         "--root",
         root().to_str().unwrap(),
     ]);
@@ -409,10 +429,16 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
     let copied = format!("flagged: copier and student-{}", unseen[2].name);
     let copied_other_way = format!("flagged: student-{} and copier", unseen[2].name);
     assert!(stdout.contains(&copied) || stdout.contains(&copied_other_way), "{stdout}");
+    assert!(stdout.contains("flagged: from-the-solution and solution"), "{stdout}");
+    assert!(stdout.contains("flagged: junior and earlier: senior"), "{stdout}");
     let page = std::fs::read_to_string(out.join("similarity.html")).unwrap();
     assert!(page.contains("<mark>") && page.contains("not evidence"), "the pair is shown side by side");
     let csv = std::fs::read_to_string(out.join("similarity.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 1 + 15 + 6, "15 pairs of six students and 6 with the solution:\n{csv}");
+    assert_eq!(
+        csv.lines().count(),
+        1 + 28 + 8 + 16,
+        "28 pairs of eight students, 8 with the solution, 16 with the seniors:\n{csv}"
+    );
     assert!(!page.contains("root:x:0:0"), "a linked file is never read");
     // Bad input: one line, exit 2.
     let missing = grader(&[
