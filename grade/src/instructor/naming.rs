@@ -4,8 +4,9 @@
 //! **Thresholds on one half, reported on the other.** The mistakes of each checkpoint are dealt
 //! alternately into two halves, each with its held-out renders, and the correct renders alike.
 //! On one half each kind's margin is set to the lowest that names no correct render and no
-//! mistake wrongly there, plus its gap ([`GAP`]; for tile means measured, [`TILE_GAP_SDS`]), and its fit to the least alike a
-//! mistake's own render is to its fingerprint there, less the gap; the other half is reported
+//! mistake wrongly there, plus its gap ([`GAP`]; for tile means measured, [`TILE_GAP_SDS`]),
+//! and its fit to the least alike a mistake's own render is to its fingerprint there, less the
+//! gap; the other half is reported
 //! with them; then the halves swap, so every mistake is reported once, by a rule its own renders
 //! did not set. Each bound shipped is the stricter of the two: it names a subset of what either
 //! names, so it names wrongly no more.
