@@ -363,7 +363,9 @@ fn student_tree(dir: &Path, author: &raylab_grade::instructor::similarity::Autho
         let text =
             std::fs::read_to_string(if path.exists() { path.clone() } else { root().join(file) }).unwrap();
         let found = find_regions(&text).unwrap().into_iter().find(|f| f.function == function).unwrap();
-        let edited = format!("{}{body}{}", &text[..found.body.start], &text[found.body.end..]);
+        // The END marker stays alone on its line.
+        let newline = if body.ends_with('\n') { "" } else { "\n" };
+        let edited = format!("{}{body}{newline}{}", &text[..found.body.start], &text[found.body.end..]);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, edited).unwrap();
     }

@@ -57,7 +57,7 @@ fn similarity_normalising_undoes_every_disguise_of_every_independent_region() {
 }
 
 #[test]
-fn similarity_engine_measured_on_authors_it_never_saw() {
+fn similarity_threshold_set_on_one_half_and_reported_on_the_other() {
     let tree = tree_regions(root()).unwrap();
     let authors = independent(root()).unwrap();
     let (train, report) = halves(&authors);

@@ -10,7 +10,8 @@ Each peer is run twice, as its documentation advises: on the region texts only, 
 files, with the starter as boilerplate both times (copydetect's -b, its other options at their
 defaults; Dolos's -i, and -M 0.5). Printed: each tool's average precision over every pair of
 every class, a pair sharing 2 or more regions a positive (the definition of
-`raylab_grade::instructor::similarity::measure::average_precision`).
+`raylab_grade::instructor::similarity::measure::average_precision`), and over the copiers' pairs
+against the pairs sharing no region (the others left out).
 """
 import csv
 import os
@@ -73,6 +74,9 @@ def main(data):
         labels = list(csv.DictReader(open(os.path.join(data, cls, "labels.csv"))))
         keys = [(int(r["a"]), int(r["b"])) for r in labels]
         truth = [int(r["shared"]) >= 2 for r in labels]
+        # The second reading: copiers against pairs sharing nothing (the rest left out).
+        copier = [r["copied"] == "true" for r in labels]
+        kept = [c or int(r["shared"]) == 0 for c, r in zip(copier, labels)]
         results = {"raylab (regions)": {k: float(r["raylab"]) for k, r in zip(keys, labels)}}
         for form in ["regions", "whole"]:
             folder = os.path.join(data, cls, form)
@@ -80,12 +84,14 @@ def main(data):
             results[f"copydetect ({form})"] = copydetect_scores(folder, template)
             results[f"Dolos ({form})"] = dolos_scores(folder, template)
         for tool, scores in results.items():
-            rows.setdefault(tool, []).append(([scores.get(k, 0.0) for k in keys], truth))
-    print("| tool | average precision |\n|---|---:|")
+            rows.setdefault(tool, []).append(([scores.get(k, 0.0) for k in keys], truth, copier, kept))
+    print("| tool | sharing 2+ regions vs the rest | copiers vs sharing nothing |\n|---|---:|---:|")
     for tool, classes in rows.items():
         scores = [s for c in classes for s in c[0]]
         truth = [t for c in classes for t in c[1]]
-        print(f"| {tool} | {average_precision(scores, truth):.3f} |")
+        copier = [(s, t) for c in classes for s, t, k in zip(c[0], c[2], c[3]) if k]
+        copier_ap = average_precision([s for s, _ in copier], [t for _, t in copier])
+        print(f"| {tool} | {average_precision(scores, truth):.3f} | {copier_ap:.3f} |")
 
 
 if __name__ == "__main__":

@@ -50,7 +50,7 @@ pub fn similarity(
             .filter_map(|entry| match entry.dir {
                 Ok(dir) => Some(student(&format!("{prefix}{}", entry.student), &dir, &regions)),
                 Err(why) => {
-                    unread.push((entry.student, why.to_string()));
+                    unread.push((format!("{prefix}{}", entry.student), why.to_string()));
                     None
                 }
             })

@@ -238,7 +238,8 @@ pub fn average_precision(pairs: &[Labelled]) -> f64 {
     let (mut seen, mut hits, mut sum) = (0, 0, 0.0);
     let mut i = 0;
     while i < sorted.len() {
-        let tie = sorted[i..].iter().take_while(|p| p.score == sorted[i].score).count();
+        // At least one: a NaN score (never made) would otherwise stop `i` from moving.
+        let tie = sorted[i..].iter().take_while(|p| p.score.total_cmp(&sorted[i].score).is_eq()).count();
         let tie_hits = sorted[i..i + tie].iter().filter(|p| p.shared >= 2).count();
         seen += tie;
         hits += tie_hits;

@@ -25,6 +25,8 @@ pub mod winnow;
 
 use std::collections::{BTreeMap, HashSet};
 
+use crate::regions::allow::{MAX_NESTING, MAX_REGION_BYTES, PARSER_STACK_BYTES};
+use crate::regions::lexer::{nesting, tokens};
 use normalise::{normalise, Token};
 use score::{copy_score, Null, RegionTexts, Weights};
 use winnow::{winnow, Print};
@@ -32,7 +34,7 @@ use winnow::{winnow, Print};
 /// The score above which a pair is flagged for a person to look at: the score at most one pair of
 /// independent students in a thousand exceeds, set on classes drawn from one half of the test
 /// set's authors (`grade/tests/similarity.rs` checks it is that measurement's, rounded up).
-pub const FLAG_SCORE: f64 = 1.15;
+pub const FLAG_SCORE: f64 = 1.88;
 
 /// One author's region texts: a student, an independent implementation, the solution.
 #[derive(Clone, Debug, Default)]
@@ -55,11 +57,21 @@ pub struct Text {
 }
 
 impl Text {
-    /// Reads `body`.
-    pub fn of(body: &str) -> Text {
+    /// Reads `body`; `None` for a body the allow list would refuse before parsing it (longer than
+    /// [`MAX_REGION_BYTES`], not Rust tokens, unbalanced, nested deeper than [`MAX_NESTING`]):
+    /// such a region costs the submission its points anyway, and is not compared. Called on a
+    /// thread with [`PARSER_STACK_BYTES`] of stack, as the allow list parses.
+    pub fn of(body: &str) -> Option<Text> {
+        if body.len() > MAX_REGION_BYTES {
+            return None;
+        }
+        match nesting(&tokens(body).ok()?) {
+            (depth, true) if depth <= MAX_NESTING => {}
+            _ => return None,
+        }
         let tokens = normalise(body);
         let prints = winnow(&tokens);
-        Text { body: body.to_string(), tokens, prints }
+        Some(Text { body: body.to_string(), tokens, prints })
     }
 }
 
@@ -89,6 +101,10 @@ pub struct Pair {
 
 /// A class compared.
 pub struct Comparison {
+    /// The texts not compared: the author, and the region (see [`Text::of`]).
+    pub refused: Vec<(usize, String)>,
+    /// The regions no pair is scored on: no independent implementation of theirs to judge by.
+    pub unjudged: Vec<String>,
     /// Every author: the students first, then the others.
     pub names: Vec<String>,
     /// Each author's texts.
@@ -108,19 +124,33 @@ pub fn compare(
     independent: &[Author],
     stubs: &BTreeMap<String, String>,
 ) -> Comparison {
-    let read = |authors: &[Author]| -> Vec<BTreeMap<String, Text>> {
-        authors
+    let everyone: Vec<&Author> = students.iter().chain(others).chain(independent).collect();
+    let read: Vec<BTreeMap<String, Option<Text>>> = on_parser_stack(|| {
+        everyone
             .iter()
             .map(|a| a.regions.iter().map(|(r, body)| (r.clone(), Text::of(body))).collect())
             .collect()
-    };
-    let mut texts = read(students);
-    texts.extend(read(others));
-    let independent = read(independent);
-    let regions: Vec<&String> = stubs.keys().collect();
+    });
+    let mut refused = Vec::new();
+    let mut texts: Vec<BTreeMap<String, Text>> = Vec::new();
+    for (author, regions) in read.into_iter().enumerate() {
+        let mut kept = BTreeMap::new();
+        for (region, text) in regions {
+            match text {
+                Some(text) => {
+                    kept.insert(region, text);
+                }
+                None => refused.push((author, region)),
+            }
+        }
+        texts.push(kept);
+    }
+    let independent: Vec<BTreeMap<String, Text>> = texts.split_off(students.len() + others.len());
+    refused.retain(|(author, _)| *author < texts.len());
     let mut weights = BTreeMap::new();
     let mut nulls = BTreeMap::new();
-    for region in regions {
+    let mut unjudged = Vec::new();
+    for region in stubs.keys() {
         let stub: HashSet<u64> = winnow(&normalise(&stubs[region])).into_iter().map(|p| p.hash).collect();
         let all: Vec<&[Print]> = texts
             .iter()
@@ -130,6 +160,10 @@ pub fn compare(
             .collect();
         let w = Weights::of(&RegionTexts { prints: all, stub });
         let sample: Vec<&Text> = independent.iter().filter_map(|t| t.get(region)).collect();
+        if sample.len() < 2 {
+            unjudged.push(region.clone());
+            continue;
+        }
         let s: Vec<f64> =
             pairs_of(sample.len()).map(|(i, j)| w.similarity(&sample[i].prints, &sample[j].prints)).collect();
         nulls.insert(region.clone(), Null::of(&s));
@@ -142,7 +176,15 @@ pub fn compare(
         .collect();
     pairs.sort_by(|p, q| q.score.total_cmp(&p.score).then((p.a, p.b).cmp(&(q.a, q.b))));
     let names = students.iter().chain(others).map(|a| a.name.clone()).collect();
-    Comparison { names, texts, pairs, nulls }
+    Comparison { refused, unjudged, names, texts, pairs, nulls }
+}
+
+/// `read()` on a thread with the parser's stack (`syn` recurses on nested syntax).
+fn on_parser_stack<T: Send>(read: impl FnOnce() -> T + Send) -> T {
+    std::thread::scope(|scope| {
+        let reading = std::thread::Builder::new().stack_size(PARSER_STACK_BYTES).spawn_scoped(scope, read);
+        reading.expect("a thread starts").join().expect("reading a region never panics")
+    })
 }
 
 /// Every pair `(i, j)`, `i < j < n`.

@@ -7,10 +7,11 @@
 //!   `fn`) is the one token `$v`, so renaming changes nothing; the names a student cannot rename
 //!   (the function's parameters, fields, methods, types) stay as they are;
 //! - a number is its value (`1.0`, `1.`, `1e0`, `1.0_f32` are all `1`), any string `$s`;
+//! - a binding's `mut` and a pattern's type annotation are dropped;
 //! - in every block, a `let` that binds only names nothing after it uses is dropped (dead code),
-//!   and each run of `let` statements is put in one order: the smallest statement (by its
-//!   normalised text) first among those whose names are ready, so independent statements written
-//!   in any order read the same.
+//!   and each run of `let` statements is put in one order: by level (how deep in the run's
+//!   dependencies it is), then by its normalised text, so independent statements written in any
+//!   order read the same. Other statements (`if`, loops, assignments) keep their order.
 //!
 //! Each token keeps the line of the region it came from, to show the matching spans.
 
@@ -31,8 +32,8 @@ pub struct Token {
 }
 
 /// The normalised tokens of a region `body`. Code that `syn` cannot read as a block is normalised
-/// token by token (names, numbers and strings as above, no dead code or reordering); text that is
-/// not even Rust tokens gives none.
+/// token by token (numbers and strings as above, names as written: which are bound is not known,
+/// no dead code or reordering); text that is not even Rust tokens gives none.
 pub fn normalise(body: &str) -> Vec<Token> {
     // The body is wrapped in braces on lines of their own: region line = parsed line - 1.
     let wrapped = format!("{{\n{body}\n}}");
@@ -58,12 +59,17 @@ pub fn normalise(body: &str) -> Vec<Token> {
     }
 }
 
-/// Every name a pattern or a nested `fn` binds anywhere in `block`.
+/// Every name a pattern or a nested `fn` binds anywhere in `block`. A capitalised name in a
+/// pattern (`None`, `EPSILON`) is a variant or a constant, which `syn` cannot tell from a binding:
+/// bindings are lower case, so those stay.
 pub(super) fn bound_names(block: &syn::Block) -> HashSet<String> {
     struct Binder(HashSet<String>);
     impl Visit<'_> for Binder {
         fn visit_pat_ident(&mut self, p: &syn::PatIdent) {
-            self.0.insert(p.ident.to_string());
+            let name = p.ident.to_string();
+            if !name.starts_with(|c: char| c.is_ascii_uppercase()) {
+                self.0.insert(name);
+            }
             syn::visit::visit_pat_ident(self, p);
         }
         fn visit_item_fn(&mut self, f: &syn::ItemFn) {
@@ -86,6 +92,18 @@ impl VisitMut for Canonical<'_> {
         syn::visit_mut::visit_block_mut(self, block);
         drop_dead_lets(&mut block.stmts);
         order_lets(&mut block.stmts, self.bound);
+    }
+
+    /// A binding's `mut` and a pattern's type annotation (`let mut x: f32`) say nothing a
+    /// copier could not add or drop: both go.
+    fn visit_pat_mut(&mut self, pat: &mut syn::Pat) {
+        if let syn::Pat::Type(typed) = pat {
+            *pat = (*typed.pat).clone();
+        }
+        if let syn::Pat::Ident(ident) = pat {
+            ident.mutability = None;
+        }
+        syn::visit_mut::visit_pat_mut(self, pat);
     }
 }
 
@@ -126,20 +144,29 @@ pub(super) fn mentions(stmt: &syn::Stmt) -> HashSet<String> {
     out
 }
 
-/// Removes, until none is left, every `let` none of whose names a later statement mentions.
+/// Removes every `let` none of whose names a later statement that stays mentions: one pass from
+/// the end, a dead `let`'s own mentions not counted, so a chain of dead `let`s goes at once.
 fn drop_dead_lets(stmts: &mut Vec<syn::Stmt>) {
-    while let Some(dead) = (0..stmts.len()).find(|&i| {
-        let bound = binds(&stmts[i]);
-        matches!(stmts[i], syn::Stmt::Local(_))
-            && stmts[i + 1..].iter().all(|later| bound.iter().all(|name| !mentions(later).contains(name)))
-    }) {
-        stmts.remove(dead);
+    let mut later: HashSet<String> = HashSet::new();
+    let mut dead = vec![false; stmts.len()];
+    for (i, stmt) in stmts.iter().enumerate().rev() {
+        if matches!(stmt, syn::Stmt::Local(_)) && binds(stmt).iter().all(|name| !later.contains(name)) {
+            dead[i] = true;
+        } else {
+            later.extend(mentions(stmt));
+        }
     }
+    let mut i = 0;
+    stmts.retain(|_| {
+        i += 1;
+        !dead[i - 1]
+    });
 }
 
 /// Puts each run of consecutive `let`s in one order that keeps every name defined before it is
-/// used (and never moves a `let` past another binding the same name): among the statements ready,
-/// the one whose normalised text is smallest comes first.
+/// used (and never moves a `let` past another binding the same name): by level (a `let` is one
+/// level above the deepest it must follow), then by normalised text. Levels and texts do not
+/// depend on which valid order the run was written in, so neither does the result.
 fn order_lets(stmts: &mut [syn::Stmt], bound: &HashSet<String>) {
     let mut start = 0;
     while start < stmts.len() {
@@ -156,7 +183,7 @@ fn order_lets(stmts: &mut [syn::Stmt], bound: &HashSet<String>) {
     }
 }
 
-/// The order of `run` (indices): a topological order of "must stay after", smallest text first.
+/// The order of `run` (indices): by level, then by normalised text.
 fn canonical_order(run: &[syn::Stmt], bound: &HashSet<String>) -> Vec<usize> {
     let names: Vec<BTreeSet<String>> = run.iter().map(binds).collect();
     let used: Vec<HashSet<String>> = run.iter().map(mentions).collect();
@@ -164,6 +191,10 @@ fn canonical_order(run: &[syn::Stmt], bound: &HashSet<String>) -> Vec<usize> {
     let after = |i: usize, j: usize| {
         names[i].iter().any(|n| used[j].contains(n)) || names[j].iter().any(|n| used[i].contains(n))
     };
+    let mut level = vec![0usize; run.len()];
+    for j in 0..run.len() {
+        level[j] = (0..j).filter(|&i| after(i, j)).map(|i| level[i] + 1).max().unwrap_or(0);
+    }
     let key: Vec<String> = run
         .iter()
         .map(|s| {
@@ -172,16 +203,8 @@ fn canonical_order(run: &[syn::Stmt], bound: &HashSet<String>) -> Vec<usize> {
             tokens.into_iter().map(|t| t.text).collect::<Vec<_>>().join(" ")
         })
         .collect();
-    let mut placed = vec![false; run.len()];
-    let mut order = Vec::with_capacity(run.len());
-    while order.len() < run.len() {
-        let ready = (0..run.len())
-            .filter(|&j| !placed[j] && (0..j).all(|i| placed[i] || !after(i, j)))
-            .min_by(|&a, &b| key[a].cmp(&key[b]).then(a.cmp(&b)))
-            .expect("the first unplaced statement is always ready");
-        placed[ready] = true;
-        order.push(ready);
-    }
+    let mut order: Vec<usize> = (0..run.len()).collect();
+    order.sort_by(|&a, &b| level[a].cmp(&level[b]).then_with(|| key[a].cmp(&key[b])).then(a.cmp(&b)));
     order
 }
 

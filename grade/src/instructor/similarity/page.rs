@@ -30,6 +30,9 @@ pub fn write(class: &ClassSimilarity, out: &Path) -> Result<(), FileError> {
 /// Pairs shown under the threshold, for scale.
 const UNFLAGGED_SHOWN: usize = 10;
 
+/// Flagged pairs named in the class page's section.
+const SECTION_PAIRS: usize = 10;
+
 /// Flagged pairs listed in the table, and shown side by side: the page stays readable (and
 /// small) even when a class is mostly copies; the CSV has every pair.
 const FLAGGED_LISTED: usize = 300;
@@ -37,8 +40,8 @@ const FLAGGED_SHOWN: usize = 50;
 
 /// What the page says before any pair: what a flag is and is not.
 const CAVEAT: &str = "A flag marks two submissions whose solution regions are more alike than \
-independent students' are, region by region, after undoing renaming, literal spelling, layout, \
-comments, reordered and unused statements. It is a reason to look and to talk with the students, \
+independent students' are, region by region, after undoing renamed bindings, literal spelling, layout, \
+comments, <code>mut</code> and type annotations, reordered and unused <code>let</code>s. It is a reason to look and to talk with the students, \
 not evidence: code written with the same assistant, tutorial or study group can look copied. \
 Nothing here changes a grade or reaches a student.";
 
@@ -55,7 +58,7 @@ pub fn class_section(class: &ClassSimilarity) -> String {
         class.comparison.pairs.len(),
         class.clusters.len()
     );
-    for pair in flagged.iter().take(UNFLAGGED_SHOWN) {
+    for pair in flagged.iter().take(SECTION_PAIRS) {
         let _ = write!(
             out,
             "<li>{} and {}: {:.2}</li>",
@@ -70,13 +73,13 @@ pub fn class_section(class: &ClassSimilarity) -> String {
 /// The CSV: every pair, highest score first.
 pub fn csv(class: &ClassSimilarity) -> String {
     let names = &class.comparison.names;
-    let mut out = String::from("a,b,score,flagged,regions_alike,most_alike_region,most_alike_similarity\n");
+    let mut out = String::from("a,b,score,flagged,regions_alike,most_unusual_region,its_similarity\n");
     for pair in &class.comparison.pairs {
         let alike = pair.regions.iter().filter(|r| r.ratio > 1.0).count();
         let top = pair.regions.first();
         let _ = writeln!(
             out,
-            "{},{},{:.3},{},{alike},{},{:.3}",
+            "{},{},{:.2},{},{alike},{},{:.3}",
             quoted(&names[pair.a]),
             quoted(&names[pair.b]),
             pair.score,
@@ -88,9 +91,11 @@ pub fn csv(class: &ClassSimilarity) -> String {
     out
 }
 
-/// A CSV field, quoted.
+/// A CSV field, quoted; one a spreadsheet would read as a formula (`=`, `+`, `-`, `@`) starts
+/// with `'`.
 fn quoted(field: &str) -> String {
-    format!("\"{}\"", field.replace('"', "\"\""))
+    let guard = if field.starts_with(['=', '+', '-', '@']) { "'" } else { "" };
+    format!("\"{guard}{}\"", field.replace('"', "\"\""))
 }
 
 /// The HTML page.
@@ -100,13 +105,32 @@ pub fn page(class: &ClassSimilarity) -> String {
     let mut out = String::from(HEAD);
     let _ = write!(
         out,
-        "<h1>Similar submissions</h1><p class=caveat>{CAVEAT}</p><p>{} students, {} pairs compared \
-         (and each student with the solution{}); <b>{} flagged</b> (score above {FLAG_SCORE}).</p>",
+        "<h1>Similar submissions</h1><p class=caveat>{CAVEAT}</p><p>{} students; {} pairs compared, \
+         each student with each other, with the solution{}; <b>{} flagged</b> (score above \
+         {FLAG_SCORE}). Measured on independent authors, about 3 pairs in 1,000 are flagged by \
+         chance, more between students alike in style (docs/GRADING.md). A cluster joins students \
+         through flagged pairs: its members need not be alike two by two.</p>",
         class.students,
         class.comparison.pairs.len(),
-        if names.len() > class.students + 1 { " and the earlier classes" } else { "" },
+        if names.len() > class.students + 1 { " and with the earlier classes" } else { "" },
         flagged.len(),
     );
+    if !class.comparison.unjudged.is_empty() {
+        let regions: Vec<String> = class.comparison.unjudged.iter().map(|r| function(r)).collect();
+        let _ = write!(
+            out,
+            "<p>Not compared (no independent implementations to judge them by): {}.</p>",
+            escape(&regions.join(", "))
+        );
+    }
+    for (author, region) in &class.comparison.refused {
+        let _ = write!(
+            out,
+            "<p class=unread>Not compared: {}'s {} (too long, too deep or not Rust tokens).</p>",
+            escape(&names[*author]),
+            escape(&function(region))
+        );
+    }
     for (student, why) in &class.unread {
         let _ = write!(out, "<p class=unread>Not read: {}: {}</p>", escape(student), escape(why));
     }
@@ -165,7 +189,8 @@ fn pair_view(class: &ClassSimilarity, pair: &Pair, rank: usize) -> String {
         let (a, b) = (&texts[pair.a][&region.region], &texts[pair.b][&region.region]);
         let _ = write!(
             out,
-            "<h3>{} <small>similarity {:.2}, {:.1}× likelier copied than independent</small></h3>\
+            "<h3>{} <small>similarity {:.2}, likelihood ratio {:.1} (copied over independent, in \
+             the engine's model)</small></h3>\
              <div class=sides><pre>{}</pre><pre>{}</pre></div>",
             escape(&region.region),
             region.similarity,

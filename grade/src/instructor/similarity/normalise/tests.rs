@@ -82,3 +82,30 @@ fn similarity_normalising_reads_what_does_not_parse_token_by_token() {
     assert_eq!(text("let x = 1.0 + ; y"), "let x = 1 + ; y");
     assert!(text("\"unterminated").is_empty());
 }
+
+#[test]
+fn similarity_normalising_gives_one_order_whichever_valid_order_was_written() {
+    // `p` and `q` read alike; `r` needs `q`. Written p q r or q p r, one text.
+    let a = "let p = v1 - v0; let q = v2 - v0; let r = q * 2.0; p + r";
+    let b = "let q = v2 - v0; let p = v1 - v0; let r = q * 2.0; p + r";
+    assert_eq!(text(a), text(b));
+}
+
+#[test]
+fn similarity_normalising_drops_mut_and_type_annotations_and_keeps_variants() {
+    assert_eq!(text("let mut x: f32 = a; x += 1.0; x"), text("let mut y = a; y += 1.0; y"));
+    assert_eq!(text("let t = |k: f32| k * 2.0; t(a)"), text("let t = |k| k * 2.0; t(a)"));
+    // `None` in a pattern is a variant, not a binding: it is not `$v`.
+    let t = text("match h { None => 0.0, Some(hit) => hit.t }");
+    assert!(t.contains("None") && t.contains("Some ( $v )"), "{t}");
+}
+
+#[test]
+fn similarity_normalising_reads_a_long_run_of_lets() {
+    // Two thousand `let`s kept alive by one sum: one pass for the dead, one sort for the order
+    // (a rescan of the run per statement took hours on such a body).
+    let lets: String = (0..2000).map(|i| format!("let v{i} = a * {i}.0;\n")).collect();
+    let sum: Vec<String> = (0..2000).map(|i| format!("v{i}")).collect();
+    let body = format!("{lets}{}", sum.join(" + "));
+    assert_eq!(normalise(&body).iter().filter(|t| t.text == "let").count(), 2000);
+}
