@@ -413,6 +413,13 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
     std::fs::remove_file(hostile.join("src/geometry/triangle.rs")).unwrap();
     std::os::unix::fs::symlink("/etc/passwd", hostile.join("src/geometry/triangle.rs")).unwrap();
     std::fs::write(hostile.join("src/sampling.rs"), [0xff, 0xfe, b'{']).unwrap();
+    // A region nested four thousand deep, and one of 900 KB: refused unread, never parsed.
+    let mut huge = raylab_grade::instructor::similarity::Author::default();
+    let deep = format!("{}{}\n", "(".repeat(4000), ")".repeat(4000));
+    huge.regions.insert("src/geometry/aabb.rs::intersect".into(), deep);
+    let long = format!("let x = 1;\n{}x\n", "let y = x + 1;\n".repeat(60_000));
+    huge.regions.insert("src/geometry/bvh/traverse.rs::traverse".into(), long);
+    student_tree(&hostile, &huge);
     let material = std::fs::read_to_string(hostile.join("src/material.rs")).unwrap();
     std::fs::write(hostile.join("src/material.rs"), material.replace("let ", "let = ;;{ ")).unwrap();
     let out = scratch("similarity-out");
@@ -442,6 +449,8 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
         "28 pairs of eight students, 8 with the solution, 16 with the seniors:\n{csv}"
     );
     assert!(!page.contains("root:x:0:0"), "a linked file is never read");
+    assert!(page.contains("Not compared: hostile's intersect"), "the deep region is listed");
+    assert!(page.contains("Not compared: hostile's traverse"), "the long region is listed");
     // Bad input: one line, exit 2.
     let missing = grader(&[
         "similarity",
