@@ -371,13 +371,11 @@ fn student_tree(dir: &Path, author: &raylab_grade::instructor::similarity::Autho
     }
 }
 
-#[test]
+/// A class of four unseen authors, a disguised copy of the third, the solution disguised but for
+/// one region, a copy of an earlier class's student, and a hostile tree; and that earlier class.
 #[cfg(feature = "instructor")]
-fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm() {
+fn similarity_class(unseen: &[raylab_grade::instructor::similarity::Author]) -> (PathBuf, PathBuf) {
     use raylab_grade::instructor::similarity::disguise::{disguise, Disguise};
-    use raylab_grade::instructor::similarity::test_set::{halves, independent};
-    let authors = independent(&root()).unwrap();
-    let (_, unseen) = halves(&authors);
     let class = scratch("similarity-class");
     for author in &unseen[..4] {
         student_tree(&class.join(format!("student-{}", author.name)), author);
@@ -406,10 +404,15 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
         .values_mut()
         .for_each(|body| *body = disguise(body, &[Disguise::Rename, Disguise::Layout], 1));
     student_tree(&class.join("junior"), &first);
-    // A hostile tree: a region file that is a link out, one of bytes that are not UTF-8, one that
-    // does not parse; the rest the fourth author's.
-    let hostile = class.join("hostile");
-    student_tree(&hostile, &unseen[3]);
+    hostile_tree(&class.join("hostile"), &unseen[3]);
+    (class, earlier)
+}
+
+/// `author`'s tree at `hostile` with a region file that is a link out, one of bytes that are not
+/// UTF-8, one that does not parse, a region nested 4,000 deep and one of 900 KB.
+#[cfg(feature = "instructor")]
+fn hostile_tree(hostile: &Path, author: &raylab_grade::instructor::similarity::Author) {
+    student_tree(hostile, author);
     std::fs::remove_file(hostile.join("src/geometry/triangle.rs")).unwrap();
     std::os::unix::fs::symlink("/etc/passwd", hostile.join("src/geometry/triangle.rs")).unwrap();
     std::fs::write(hostile.join("src/sampling.rs"), [0xff, 0xfe, b'{']).unwrap();
@@ -419,9 +422,18 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
     huge.regions.insert("src/geometry/aabb.rs::intersect".into(), deep);
     let long = format!("let x = 1;\n{}x\n", "let y = x + 1;\n".repeat(60_000));
     huge.regions.insert("src/geometry/bvh/traverse.rs::traverse".into(), long);
-    student_tree(&hostile, &huge);
+    student_tree(hostile, &huge);
     let material = std::fs::read_to_string(hostile.join("src/material.rs")).unwrap();
     std::fs::write(hostile.join("src/material.rs"), material.replace("let ", "let = ;;{ ")).unwrap();
+}
+
+#[test]
+#[cfg(feature = "instructor")]
+fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm() {
+    use raylab_grade::instructor::similarity::test_set::{halves, independent};
+    let authors = independent(&root()).unwrap();
+    let (_, unseen) = halves(&authors);
+    let (class, earlier) = similarity_class(unseen);
     let out = scratch("similarity-out");
     let output = grader(&[
         "similarity",
@@ -452,30 +464,18 @@ fn grader_similarity_flags_a_disguised_copy_and_reads_hostile_trees_without_harm
     assert!(page.contains("Not compared: hostile's intersect"), "the deep region is listed");
     assert!(page.contains("Not compared: hostile's traverse"), "the long region is listed");
     // Bad input: one line, exit 2.
-    let missing = grader(&[
-        "similarity",
-        "/no/such/class",
-        "--out",
-        out.to_str().unwrap(),
-        "--root",
-        root().to_str().unwrap(),
-    ]);
+    let similarity = |class: &str, out: &Path| {
+        grader(&["similarity", class, "--out", out.to_str().unwrap(), "--root", root().to_str().unwrap()])
+    };
+    let missing = similarity("/no/such/class", &out);
     assert_eq!(missing.status.code(), Some(2), "{}", stderr(&missing));
+    let lines = stderr(&missing);
     assert_eq!(
-        stderr(&missing).lines().filter(|l| l.starts_with("grader:") && l.contains("no/such/class")).count(),
+        lines.lines().filter(|l| l.starts_with("grader:") && l.contains("no/such/class")).count(),
         1,
-        "{}",
-        stderr(&missing)
+        "{lines}"
     );
-    let onto_a_file = out.join("similarity.csv");
-    let unwritable = grader(&[
-        "similarity",
-        class.to_str().unwrap(),
-        "--out",
-        onto_a_file.to_str().unwrap(),
-        "--root",
-        root().to_str().unwrap(),
-    ]);
+    let unwritable = similarity(class.to_str().unwrap(), &out.join("similarity.csv"));
     assert_eq!(unwritable.status.code(), Some(2), "{}", stderr(&unwritable));
 }
 

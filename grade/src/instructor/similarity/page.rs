@@ -100,20 +100,26 @@ fn quoted(field: &str) -> String {
 
 /// The HTML page.
 pub fn page(class: &ClassSimilarity) -> String {
-    let names = &class.comparison.names;
     let flagged: Vec<&Pair> = class.flagged().collect();
-    let mut out = String::from(HEAD);
-    let _ = write!(
-        out,
+    let mut out = String::from(HEAD) + &intro(class, flagged.len()) + &pairs_table(class, &flagged);
+    for (rank, pair) in flagged.iter().take(FLAGGED_SHOWN).enumerate() {
+        out += &pair_view(class, pair, rank);
+    }
+    out + "</body></html>"
+}
+
+/// The page's top: what a flag is, how many, what was not compared or read, the clusters.
+fn intro(class: &ClassSimilarity, flagged: usize) -> String {
+    let names = &class.comparison.names;
+    let mut out = format!(
         "<h1>Similar submissions</h1><p class=caveat>{CAVEAT}</p><p>{} students; {} pairs compared, \
-         each student with each other, with the solution{}; <b>{} flagged</b> (score above \
+         each student with each other, with the solution{}; <b>{flagged} flagged</b> (score above \
          {FLAG_SCORE}). Measured on independent authors, about 3 pairs in 1,000 are flagged by \
          chance, more between students alike in style (docs/GRADING.md). A cluster joins students \
          through flagged pairs: its members need not be alike two by two.</p>",
         class.students,
         class.comparison.pairs.len(),
         if names.len() > class.students + 1 { " and with the earlier classes" } else { "" },
-        flagged.len(),
     );
     if !class.comparison.unjudged.is_empty() {
         let regions: Vec<String> = class.comparison.unjudged.iter().map(|r| function(r)).collect();
@@ -142,7 +148,15 @@ pub fn page(class: &ClassSimilarity) -> String {
         }
         out += "</ul>";
     }
-    out += "<h2>Pairs</h2><table><tr><th>#</th><th>submission</th><th>submission</th><th>score</th><th>regions alike</th></tr>";
+    out
+}
+
+/// The ranked pairs: the flagged ones (the first linked to their view), then a few below.
+fn pairs_table(class: &ClassSimilarity, flagged: &[&Pair]) -> String {
+    let names = &class.comparison.names;
+    let mut out = String::from(
+        "<h2>Pairs</h2><table><tr><th>#</th><th>submission</th><th>submission</th><th>score</th><th>regions alike</th></tr>",
+    );
     let unflagged = class.comparison.pairs.iter().filter(|p| p.score <= FLAG_SCORE).take(UNFLAGGED_SHOWN);
     for (rank, pair) in flagged.iter().take(FLAGGED_LISTED).copied().chain(unflagged).enumerate() {
         let alike: Vec<String> =
@@ -169,10 +183,7 @@ pub fn page(class: &ClassSimilarity) -> String {
     if flagged.len() > FLAGGED_SHOWN {
         let _ = write!(out, "<p>The first {FLAGGED_SHOWN} flagged pairs are shown side by side below.</p>");
     }
-    for (rank, pair) in flagged.iter().take(FLAGGED_SHOWN).enumerate() {
-        out += &pair_view(class, pair, rank);
-    }
-    out + "</body></html>"
+    out
 }
 
 /// One flagged pair: each region both wrote, most unusual first, side by side.
