@@ -493,10 +493,10 @@ fn grader_batch_writes_the_similarity_section_beside_the_grades() {
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let index = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(
-        index.contains("<h2>Similar submissions</h2>") && index.contains("href='similarity.html'"),
+        index.contains("<h2>Similar submissions</h2>") && index.contains("href='similarity/similarity.html'"),
         "{index}"
     );
-    assert!(out.join("similarity.csv").exists() && out.join("grades.csv").exists());
+    assert!(out.join("similarity/similarity.csv").exists() && out.join("grades.csv").exists());
     // Nothing of it in a student's files.
     for student in ["alice", "bob"] {
         let report = std::fs::read_to_string(out.join("students").join(student).join("report.txt")).unwrap();

@@ -127,8 +127,12 @@ fn plant_in_hidden(tree: &Path) {
 /// Every place an output of the batch holds `token`, but the student `own`'s folder (their own
 /// text may come back to them).
 fn leaks(out: &Path, streams: &[(&str, &str)], token: &str, own: Option<&str>) -> Vec<String> {
+    // The instructor's similarity page shows students' code and the solution's side by side by
+    // design, in a folder of its own that is never given out (the test checks it is there).
     let skip = |path: &Path| {
-        path.ends_with(".work") || own.is_some_and(|s| path.ends_with(Path::new("students").join(s)))
+        path.ends_with(".work")
+            || path == out.join("similarity")
+            || own.is_some_and(|s| path.ends_with(Path::new("students").join(s)))
     };
     let streams = streams.iter().filter(|(_, text)| text.contains(token)).map(|(name, _)| name.to_string());
     let files =
@@ -267,6 +271,9 @@ fn grader_holds_against_every_hostile_submission_in_one_class() {
         failures.push(format!("graded first and last, {HONEST} differs:\n{first:?}\n{last:?}"));
     }
     let streams = [("stdout", stdout.as_ref()), ("stderr", stderr.as_ref())];
+    if !out.join("similarity/similarity.html").is_file() {
+        failures.push("no similarity page in out/similarity/".to_string());
+    }
     failures.extend(leaks(&out, &streams, HIDDEN_CANARY, None));
     failures.extend(leaks(&out, &streams, SOLUTION_CANARY, None));
     failures.extend(leaks(&out, &streams, STUDENT_CANARY, Some(CANARY_STUDENT)));

@@ -116,8 +116,8 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
     }
 }
 
-/// `grader batch`'s similarity section: the class compared, its page and CSV beside the class
-/// page, and a section in it.
+/// `grader batch`'s similarity section: the class compared, its page and CSV in OUT/similarity/,
+/// and a section in the class page.
 pub fn class_similarity(
     root: &Path,
     dirs: &[PathBuf],
@@ -127,7 +127,7 @@ pub fn class_similarity(
     use raylab_grade::instructor::similarity::{class::similarity, page};
     eprintln!("grader: comparing the class's solution regions (copied solutions)");
     let class = similarity(root, dirs, &[], &out.join(".work").join("similarity"))?;
-    page::write(&class, out)?;
+    page::write(&class, &out.join(page::BATCH_FOLDER))?;
     let index = out.join("index.html");
     let html = raylab_grade::submission::batch::class_page(rows, &page::class_section(&class));
     write_file_atomic(&index, html.as_bytes()).map_err(|e| FileError::unwritable(&index, &e))?;

@@ -13,6 +13,10 @@ use crate::report::html::escape;
 
 /// The page, in `OUT`.
 pub const PAGE: &str = "similarity.html";
+/// The folder of `grader batch`'s output the page and the CSV go in: the instructor's alone. The
+/// page shows students' code and the solution's side by side; nothing else in a batch's output
+/// holds a line of either, so the class page and the students' folders can be shared.
+pub const BATCH_FOLDER: &str = "similarity";
 /// The CSV of every pair, in `OUT`.
 pub const CSV: &str = "similarity.csv";
 
@@ -46,14 +50,15 @@ not evidence: code written with the same assistant, tutorial or study group can 
 Nothing here changes a grade or reaches a student.";
 
 /// The class page's section (`grader batch`): how many pairs are flagged, the clusters, the first
-/// flagged pairs, and a link to [`PAGE`].
+/// flagged pairs (names and scores, no code), and a link to [`PAGE`] in [`BATCH_FOLDER`].
 pub fn class_section(class: &ClassSimilarity) -> String {
     let names = &class.comparison.names;
     let flagged: Vec<&Pair> = class.flagged().collect();
     let mut out = format!(
         "<h2>Similar submissions</h2><p><b>{} of {} pairs flagged</b> (score above {FLAG_SCORE}), \
-         {} clusters of three or more: <a href='{PAGE}'>side by side</a>, every pair in \
-         <a href='{CSV}'>{CSV}</a>. {CAVEAT}</p><ul>",
+         {} clusters of three or more: <a href='{BATCH_FOLDER}/{PAGE}'>side by side</a> (the \
+         instructor's: it shows code), every pair in <a href='{BATCH_FOLDER}/{CSV}'>{CSV}</a>. \
+         {CAVEAT}</p><ul>",
         flagged.len(),
         class.comparison.pairs.len(),
         class.clusters.len()
